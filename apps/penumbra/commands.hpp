@@ -1,0 +1,13 @@
+// The CLI's subcommands. Each adds itself to the CLI11 app with a callback that does the work.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace penumbra::cli {
+
+void add_render_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
+void add_info_command(CLI::App& app);
+void add_list_command(CLI::App& app);
+
+}  // namespace penumbra::cli

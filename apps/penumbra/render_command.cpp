@@ -1,0 +1,178 @@
+// `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
+#include "commands.hpp"
+#include "report_table.hpp"
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/metrics/error_map.hpp"
+#include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/scene/scene_file.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace penumbra::cli {
+
+namespace {
+
+struct RenderArgs {
+  std::string scene;
+  std::vector<std::string> methods;
+  int samples = 16;
+  std::string pattern = "grid";
+  uint64_t seed = 1;
+  std::string size;
+  std::vector<std::string> sets;
+  std::string out;
+  std::string float_format = "exr";
+  std::vector<std::string> aovs;
+  std::string shading = "modulate";
+};
+
+void parse_size(const std::string& text, Camera& camera) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
+      h < 1 || w > 16384 || h > 16384)
+    throw Error("--size: expected WxH with 1..16384 pixels each, got '" + text + "'");
+  camera.width = w;
+  camera.height = h;
+}
+
+/// --set method.key=value, grouped by method.
+std::map<std::string, std::map<std::string, std::string>> parse_sets(const std::vector<std::string>& sets) {
+  std::map<std::string, std::map<std::string, std::string>> out;
+  for (const std::string& s : sets) {
+    const size_t dot = s.find('.'), eq = s.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 || eq == dot + 1)
+      throw Error("--set: expected method.option=value, got '" + s + "'");
+    out[s.substr(0, dot)][s.substr(dot + 1, eq - dot - 1)] = s.substr(eq + 1);
+  }
+  return out;
+}
+
+std::vector<const MethodInfo*> selected_methods(const std::vector<std::string>& names) {
+  const MethodRegistry& registry = MethodRegistry::builtin();
+  std::vector<const MethodInfo*> out;
+  for (const std::string& name : names) {
+    if (name == "all") {
+      for (const MethodInfo& m : registry.methods()) out.push_back(&m);
+    } else {
+      out.push_back(&registry.get(name));
+    }
+  }
+  // `exact` first: every other method is measured against it.
+  std::stable_sort(out.begin(), out.end(),
+                   [](const MethodInfo* a, const MethodInfo* b) { return a->name == "exact" && b->name != "exact"; });
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
+  std::ofstream f(path);
+  f << j.dump(2) << "\n";
+  if (!f) throw Error("cannot write " + path.string());
+}
+
+void run_render(const RenderArgs& args) {
+  Scene scene = load_scene(args.scene);
+  if (!args.size.empty()) parse_size(args.size, scene.camera);
+  const auto pattern = parse_sample_pattern(args.pattern);
+  if (!pattern) throw Error("--pattern: unknown light-sample pattern '" + args.pattern + "'");
+  const ShadingMode shading = args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
+  const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
+
+  const std::vector<const MethodInfo*> methods = selected_methods(args.methods);
+  const auto sets = parse_sets(args.sets);
+  for (const auto& [name, values] : sets) {
+    MethodRegistry::builtin().get(name);  // unknown method → error
+    if (std::none_of(methods.begin(), methods.end(), [&](const MethodInfo* m) { return m->name == name; }))
+      std::fprintf(stderr, "penumbra: warning: --set for '%s', which is not rendered\n", name.c_str());
+  }
+  // Resolve every method's options before the (long) frame starts, so bad options fail fast.
+  std::vector<MethodOptions> options;
+  for (const MethodInfo* m : methods) {
+    const auto it = sets.find(m->name);
+    options.push_back(resolve_options(*m, it == sets.end() ? std::map<std::string, std::string>{} : it->second));
+  }
+
+  const std::filesystem::path out_dir = args.out;
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw Error("cannot create output folder " + out_dir.string() + ": " + ec.message());
+
+  LightSampleSpec spec;
+  spec.pattern = *pattern;
+  spec.k = args.samples;
+  spec.seed = args.seed;
+  std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n", scene.name.c_str(),
+               scene.triangle_count(), scene.lights.size(), scene.camera.width, scene.camera.height,
+               spec.k * spec.k, args.pattern.c_str());
+  const Frame frame(scene, spec);
+  if (!args.aovs.empty()) write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
+
+  const bool several = methods.size() > 1;
+  std::optional<MethodResult> exact;
+  std::vector<TableRow> rows;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    std::fprintf(stderr, "  %-16s ...", methods[m]->name.c_str());
+    std::fflush(stderr);
+    MethodResult result = frame.run(*methods[m], options[m], shading == ShadingMode::integrate);
+    std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
+
+    const std::filesystem::path dir = several ? out_dir / result.method : out_dir;
+    std::filesystem::create_directories(dir, ec);
+    std::optional<ErrorStats> error;
+    if (exact) {
+      error = compare_results(frame, *exact, result);
+      const Image<float> mask = surface_mask(frame.gbuffer());
+      write_error_map_png(dir / "error_vs_exact.png", result_difference(*exact, result),
+                          std::max(error->max_abs, 1.0 / 255.0), &mask);
+    }
+    std::vector<const Visibility*> per_light;
+    for (const Visibility& v : result.per_light) per_light.push_back(&v);
+    write_png_rgb(dir / "beauty.png", shade(frame, per_light, shading));
+    write_visibility(dir, frame, result, format);
+    nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
+    stats["shading"] = std::string(to_string(shading));
+    write_json(dir / "stats.json", stats);
+
+    rows.push_back({result.method, result.total_ms, error});
+    if (result.method == "exact") exact = std::move(result);
+  }
+  if (several) {
+    const std::string table = format_table(rows);
+    std::printf("%s", table.c_str());
+    std::ofstream(out_dir / "summary.md") << table;
+    write_json(out_dir / "summary.json", table_json(rows, frame));
+  }
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* cmd = app.add_subcommand("render", "Render a scene with one or more shadow methods");
+  cmd->add_option("--scene", args->scene, "Built-in scene name or scene .json file")->required();
+  cmd->add_option("--method", args->methods, "Method name (repeatable) or 'all'")->required();
+  cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--pattern", args->pattern, "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, poisson");
+  cmd->add_option("--seed", args->seed, "Seed of the random sample patterns");
+  cmd->add_option("--size", args->size, "Image size WxH (overrides the scene's camera)");
+  cmd->add_option("--set", args->sets, "Method option, method.option=value (repeatable)");
+  cmd->add_option("--out", args->out, "Output folder")->required();
+  cmd->add_option("--float-format", args->float_format, "Float image format")->check(CLI::IsMember({"exr", "pfm"}));
+  cmd->add_option("--aov", args->aovs, "G-buffer layers to write: position,normal,shading_normal,depth,uv,mesh_id")
+      ->delimiter(',');
+  cmd->add_option("--shading", args->shading, "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
+      ->check(CLI::IsMember({"modulate", "integrate"}));
+  cmd->callback([args] { run_render(*args); });
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,87 @@
+// Google Benchmark: the Embree baseline every exact method is measured against (issue #2).
+//   ./build/release/bench/bench_references --benchmark_counters_tabular=true
+// Scenes: bunny (needs scripts/fetch-models.sh) and spheres; 512×512; 16×16 grid samples.
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace penumbra {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+/// One frame per (scene, size, k), built once and reused by every iteration.
+const Fixture* fixture(const std::string& name, int size, int k) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key = name + "/" + std::to_string(size) + "/" + std::to_string(k);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (name == "bunny" && !find_model("bunny00.off")) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
+    f.scene->camera.width = f.scene->camera.height = size;
+    LightSampleSpec spec;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
+                const std::map<std::string, std::string>& options) {
+  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  if (!f) {
+    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, options);
+  double rays = 0.0;
+  for (auto _ : state) {
+    const MethodResult r = f->frame->run(info, opts, false);
+    rays = r.per_light[0].counters.count("rays") ? r.per_light[0].counters.at("rays") : 0.0;
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+  if (rays > 0.0) state.counters["rays_per_s"] = benchmark::Counter(rays, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["bvh_build_ms"] = f->frame->embree().build_ms();
+}
+
+void BM_RaytracePacket16(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "raytrace", {{"path", "packet16"}});
+}
+void BM_RaytraceSingle(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "raytrace", {{"path", "single"}});
+}
+
+/// The BVH build alone (a dynamic scene pays it every frame).
+void BM_EmbreeBuild(benchmark::State& state, const std::string& scene_name) {
+  if (scene_name == "bunny" && !find_model("bunny00.off")) {
+    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  const Scene scene = make_builtin_scene(scene_name);
+  for (auto _ : state) {
+    EmbreeScene embree(scene);
+    benchmark::DoNotOptimize(embree.handle());
+  }
+}
+
+BENCHMARK_CAPTURE(BM_RaytracePacket16, bunny, std::string("bunny"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RaytraceSingle, bunny, std::string("bunny"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RaytracePacket16, spheres, std::string("spheres"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_EmbreeBuild, bunny, std::string("bunny"))->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace penumbra
+
+BENCHMARK_MAIN();

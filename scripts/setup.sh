@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs every Debian package Penumbra's build, tests and benchmarks need.
+# Idempotent and non-interactive; returns quickly when everything is present.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config clang-format
+  libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
+  libcli11-dev nlohmann-json3-dev libopenexr-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"

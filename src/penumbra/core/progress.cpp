@@ -1,0 +1,35 @@
+#include "penumbra/core/progress.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace penumbra {
+
+Progress::Progress(std::string label, size_t total)
+    : label_(std::move(label)), total_(total), enabled_(enabled() && total > 0) {}
+
+Progress::~Progress() {
+  if (enabled_ && shown_percent_.load() >= 0) std::fprintf(stderr, "\r\033[K");
+}
+
+bool Progress::enabled() {
+  return isatty(STDERR_FILENO) && std::getenv("PENUMBRA_NO_PROGRESS") == nullptr;
+}
+
+void Progress::advance(size_t units) {
+  const size_t done = done_.fetch_add(units) + units;
+  if (!enabled_) return;
+  const int percent = static_cast<int>(100 * done / total_);
+  int shown = shown_percent_.load();
+  while (percent > shown) {
+    if (shown_percent_.compare_exchange_weak(shown, percent)) {
+      std::fprintf(stderr, "\r%s %3d%%", label_.c_str(), percent);
+      std::fflush(stderr);
+      break;
+    }
+  }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,30 @@
+// Progress for long runs: a percentage line on stderr, shown only when stderr is a TTY.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <string>
+
+namespace penumbra {
+
+class Progress {
+ public:
+  /// `label` names the work; `total` counts its units (rows, pixels, ...).
+  Progress(std::string label, size_t total);
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  ~Progress();
+
+  /// Thread-safe; redraws at most every 1 % of the work.
+  void advance(size_t units = 1);
+  static bool enabled();  // stderr is a terminal and PENUMBRA_NO_PROGRESS is unset
+
+ private:
+  std::string label_;
+  size_t total_;
+  std::atomic<size_t> done_{0};
+  std::atomic<int> shown_percent_{-1};
+  bool enabled_;
+};
+
+}  // namespace penumbra

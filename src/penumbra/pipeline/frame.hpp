@@ -1,0 +1,49 @@
+// One frame: the scene's BVH, the G-buffer, the receiver classes per light and the shared light
+// samples, built once; then any number of methods run on it, each on every light.
+#pragma once
+
+#include "penumbra/core/light_samples.hpp"
+#include "penumbra/render/embree_scene.hpp"
+#include "penumbra/render/gbuffer.hpp"
+#include "penumbra/shadows/registry.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+/// A method's answer for every light of the frame.
+struct MethodResult {
+  std::string method;
+  MethodOptions options;
+  std::vector<Visibility> per_light;
+  double total_ms = 0.0;  // all lights, method time only (not the shared G-buffer)
+};
+
+class Frame {
+ public:
+  Frame(const Scene& scene, const LightSampleSpec& samples);
+
+  const Scene& scene() const { return *scene_; }
+  const EmbreeScene& embree() const { return *embree_; }
+  const GBuffer& gbuffer() const { return gbuffer_; }
+  const LightSamples& samples() const { return samples_; }
+  const Image<uint8_t>& receivers(size_t light) const { return receivers_[light]; }
+  double gbuffer_ms() const { return gbuffer_ms_; }
+
+  /// Runs `info` with `options` on every light. Pixels the method need not compute are set here:
+  /// background 1, back-facing 0. Throws Error if the method returns a wrongly sized image, and
+  /// replaces any non-finite value by failing loudly (never a NaN pixel in an output).
+  MethodResult run(const MethodInfo& info, const MethodOptions& options, bool want_masks) const;
+
+ private:
+  const Scene* scene_;
+  std::unique_ptr<EmbreeScene> embree_;
+  GBuffer gbuffer_;
+  LightSamples samples_;
+  std::vector<Image<uint8_t>> receivers_;
+  double gbuffer_ms_ = 0.0;
+};
+
+}  // namespace penumbra

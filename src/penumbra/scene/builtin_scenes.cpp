@@ -1,0 +1,227 @@
+#include "penumbra/scene/builtin_scenes.hpp"
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/scene/mesh_loader.hpp"
+#include "penumbra/scene/model_paths.hpp"
+#include "penumbra/scene/shapes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace penumbra {
+
+namespace {
+
+int add_material(Scene& s, const std::string& name, Vec3 albedo, int alpha_texture = -1) {
+  Material m;
+  m.name = name;
+  m.albedo = albedo;
+  m.alpha_texture = alpha_texture;
+  s.materials.push_back(m);
+  return static_cast<int>(s.materials.size() - 1);
+}
+
+void add_mesh(Scene& s, Mesh mesh, const std::string& name, int material) {
+  mesh.name = name;
+  mesh.material = material;
+  s.meshes.push_back(std::move(mesh));
+}
+
+/// The 10×10 ground quad at y = 0, facing up.
+void add_ground(Scene& s, float side = 10.0f) {
+  const int mat = add_material(s, "ground", Vec3(0.75f));
+  add_mesh(s, make_quad(Vec3(0.0f), Vec3(0, 0, side), Vec3(side, 0, 0)), "ground", mat);
+}
+
+/// A square light of side `side` centred at `center`, parallel to the ground, facing down.
+Light square_light(const Vec3& center, float side, float power = 1.0f) {
+  Light l;
+  l.name = "light";
+  l.shape = LightShape::rect;
+  l.center = center;
+  l.edge_u = Vec3(side, 0, 0);
+  l.edge_v = Vec3(0, 0, side);  // cross(edge_u, edge_v) = -y: emits downward
+  l.radiance = Vec3(power);
+  return l;
+}
+
+/// A fence/lattice alpha mask: vertical slats and two rails, 64×64 texels.
+int add_fence_texture(Scene& s) {
+  Texture t;
+  t.name = "fence_alpha";
+  t.width = t.height = 64;
+  t.channels = 1;
+  t.texels.resize(64 * 64);
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const bool slat = (x % 8) < 4;
+      const bool rail = (y >= 8 && y < 14) || (y >= 50 && y < 56);
+      t.texels[y * 64 + x] = (slat || rail) ? 1.0f : 0.0f;
+    }
+  }
+  s.textures.push_back(std::move(t));
+  return static_cast<int>(s.textures.size() - 1);
+}
+
+Scene quad_scene() {
+  Scene s;
+  s.name = "quad";
+  add_ground(s);
+  const QuadSceneGeometry g = kQuadScene;
+  const int mat = add_material(s, "occluder", Vec3(0.6f, 0.3f, 0.2f));
+  add_mesh(s, make_quad(Vec3(0, g.occluder_height, 0), Vec3(0, 0, g.occluder_side), Vec3(g.occluder_side, 0, 0)),
+           "occluder", mat);
+  s.lights.push_back(square_light(Vec3(0, g.light_height, 0), g.light_side, 4.0f));
+  s.camera.position = Vec3(0.0f, 2.6f, 3.2f);
+  s.camera.target = Vec3(0.0f, 0.0f, 0.2f);
+  return s;
+}
+
+Scene spheres_scene() {
+  Scene s;
+  s.name = "spheres";
+  add_ground(s);
+  const int mat = add_material(s, "spheres", Vec3(0.3f, 0.5f, 0.8f));
+  Mesh all;
+  all.name = "spheres";
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 c(0.4f * static_cast<float>(i - 1), 0.6f + 0.4f * static_cast<float>(j),
+                     0.4f * static_cast<float>(k - 1));
+        Mesh sphere = make_sphere(c, 0.15f, 12, 24);
+        const uint32_t base = static_cast<uint32_t>(all.positions.size());
+        all.positions.insert(all.positions.end(), sphere.positions.begin(), sphere.positions.end());
+        all.normals.insert(all.normals.end(), sphere.normals.begin(), sphere.normals.end());
+        for (Triangle t : sphere.triangles) {
+          for (uint32_t& v : t.v) v += base;
+          all.triangles.push_back(t);
+        }
+      }
+  add_mesh(s, std::move(all), "spheres", mat);
+  s.lights.push_back(square_light(Vec3(0.3f, 3.0f, 0.2f), 1.0f, 4.0f));
+  s.camera.position = Vec3(2.4f, 2.6f, 3.0f);
+  s.camera.target = Vec3(0.0f, 0.5f, 0.0f);
+  return s;
+}
+
+Scene fence_scene() {
+  Scene s;
+  s.name = "fence";
+  add_ground(s);
+  const int tex = add_fence_texture(s);
+  const int mat = add_material(s, "fence", Vec3(0.7f, 0.55f, 0.35f), tex);
+  add_mesh(s, make_quad(Vec3(0, 1.0f, 0), Vec3(0, 0, 1.6f), Vec3(1.6f, 0, 0)), "fence", mat);
+  s.lights.push_back(square_light(Vec3(0, 3.0f, 0), 0.4f, 8.0f));
+  s.camera.position = Vec3(0.0f, 2.8f, 3.0f);
+  s.camera.target = Vec3(0.0f, 0.2f, 0.0f);
+  return s;
+}
+
+Scene default_scene() {
+  Scene s;
+  s.name = "default";
+  add_ground(s);
+  const int red = add_material(s, "box", Vec3(0.7f, 0.25f, 0.2f));
+  const int blue = add_material(s, "sphere", Vec3(0.25f, 0.4f, 0.75f));
+  const int fence_mat = add_material(s, "fence", Vec3(0.7f, 0.6f, 0.4f), add_fence_texture(s));
+  add_mesh(s, make_box(Vec3(-0.6f, 0.35f, 0.1f), Vec3(0.25f, 0.35f, 0.25f)), "box", red);
+  add_mesh(s, make_sphere(Vec3(0.45f, 0.55f, -0.2f), 0.3f, 16, 32), "sphere", blue);
+  add_mesh(s, make_quad(Vec3(0.2f, 1.2f, 0.7f), Vec3(0, 0, 0.8f), Vec3(0.8f, 0, 0)), "fence", fence_mat);
+  s.lights.push_back(square_light(Vec3(0.1f, 3.0f, 0.2f), 0.8f, 5.0f));
+  s.camera.position = Vec3(2.2f, 2.4f, 3.2f);
+  s.camera.target = Vec3(0.0f, 0.4f, 0.1f);
+  return s;
+}
+
+/// The benchmark scene layout (issue #2): model scaled to a bounding-box diagonal of 1, resting on
+/// the 10×10 ground at y = 0, a square light of side 0.5 parallel to the ground 2.0 above the
+/// model's centre, camera at (1.5, 1.2, 1.5) looking at the model's centre, 45° vertical fov.
+Scene model_scene(const std::string& name, const std::string& file_name) {
+  const auto path = find_model(file_name);
+  if (!path) {
+    throw Error("scene '" + name + "' needs " + file_name + ", which is not in " + models_dir().string() +
+                ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
+  }
+  Mesh model = load_mesh_file(*path);
+  const Bounds3 b = model.bounds();
+  const float scale = 1.0f / b.diagonal();
+  const Vec3 offset(-b.center().x, -b.lo.y, -b.center().z);
+  for (Vec3& p : model.positions) p = (p + offset) * scale;
+  const Vec3 model_center = model.bounds().center();
+
+  Scene s;
+  s.name = name;
+  add_ground(s);
+  const int mat = add_material(s, name, Vec3(0.8f, 0.75f, 0.65f));
+  add_mesh(s, std::move(model), name, mat);
+  s.lights.push_back(square_light(model_center + Vec3(0, 2.0f, 0), 0.5f, 16.0f));
+  s.camera.position = Vec3(1.5f, 1.2f, 1.5f);
+  s.camera.target = model_center;
+  s.camera.vfov_deg = 45.0f;
+  return s;
+}
+
+struct Entry {
+  BuiltinSceneInfo info;
+  std::function<Scene()> make;
+};
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> list = {
+      {{"quad", "square occluder parallel to a square light over a ground plane (closed-form penumbra)", false},
+       quad_scene},
+      {{"spheres", "3x3x3 grid of spheres over a plane: overlapping penumbrae", false}, spheres_scene},
+      {{"fence", "alpha-textured fence quad over a plane (perforated occluder)", false}, fence_scene},
+      {{"default", "box, sphere and fence panel over a plane: the main job's scene", false}, default_scene},
+      {{"bunny", "Stanford bunny (CGAL data, 75k triangles), the benchmark scene", true},
+       [] { return model_scene("bunny", "bunny00.off"); }},
+      {{"dragon", "Chinese dragon (CGAL data, 20k triangles), same layout as bunny", true},
+       [] { return model_scene("dragon", "ChineseDragon-10kv.off"); }},
+  };
+  return list;
+}
+
+}  // namespace
+
+const std::vector<BuiltinSceneInfo>& builtin_scenes() {
+  static const std::vector<BuiltinSceneInfo> infos = [] {
+    std::vector<BuiltinSceneInfo> v;
+    for (const Entry& e : entries()) v.push_back(e.info);
+    return v;
+  }();
+  return infos;
+}
+
+bool is_builtin_scene(std::string_view name) {
+  return std::any_of(entries().begin(), entries().end(), [&](const Entry& e) { return e.info.name == name; });
+}
+
+Scene make_builtin_scene(std::string_view name) {
+  for (const Entry& e : entries()) {
+    if (e.info.name == name) {
+      Scene s = e.make();
+      validate_scene(s);
+      return s;
+    }
+  }
+  std::string known;
+  for (const Entry& e : entries()) known += (known.empty() ? "" : ", ") + e.info.name;
+  throw Error("unknown built-in scene '" + std::string(name) + "' (known: " + known + ")");
+}
+
+double quad_scene_visible_fraction(double x, double y, double z) {
+  const QuadSceneGeometry g = kQuadScene;
+  // A point p at height y sees occluder coordinate o on the light plane at p + (o - p)(H − y)/(h − y).
+  const double ratio = (g.light_height - y) / (g.occluder_height - y);
+  const auto covered_1d = [&](double p) {
+    const double half_o = 0.5 * g.occluder_side, half_l = 0.5 * g.light_side;
+    const double lo = p + (-half_o - p) * ratio, hi = p + (half_o - p) * ratio;
+    const double overlap = std::min(hi, half_l) - std::max(lo, -half_l);
+    return std::clamp(overlap / g.light_side, 0.0, 1.0);
+  };
+  return 1.0 - covered_1d(x) * covered_1d(z);
+}
+
+}  // namespace penumbra

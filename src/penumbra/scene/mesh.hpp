@@ -1,0 +1,35 @@
+// Triangle meshes in world space (the scene loader applies each mesh's transform once).
+#pragma once
+
+#include "penumbra/core/math.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+struct Triangle {
+  uint32_t v[3];
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Vec3> positions;  // world space
+  std::vector<Vec3> normals;    // optional per-vertex shading normals (empty: flat shading)
+  std::vector<Vec2> uvs;        // optional per-vertex texture coordinates (needed by alpha textures)
+  std::vector<Triangle> triangles;
+  int material = 0;
+  /// Occluder / receiver roles (the image-based methods split the scene, Atty et al. §3.1).
+  bool casts_shadows = true;
+  bool receives_shadows = true;
+
+  size_t triangle_count() const { return triangles.size(); }
+  Bounds3 bounds() const;
+  Vec3 vertex(size_t tri, int corner) const { return positions[triangles[tri].v[corner]]; }
+  /// Texture coordinate at barycentric (u, v) of triangle `tri` (Embree's convention:
+  /// p = (1-u-v) p0 + u p1 + v p2). Zero when the mesh has no UVs.
+  Vec2 uv_at(size_t tri, float u, float v) const;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,211 @@
+#include "penumbra/scene/mesh_loader.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "penumbra/core/error.hpp"
+
+namespace penumbra {
+
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& reason) {
+  throw Error("cannot load mesh '" + path.string() + "': " + reason);
+}
+
+/// One use of an aiMesh by a node, with the node's accumulated transform.
+struct MeshInstance {
+  const aiMesh* mesh;
+  aiMatrix4x4 transform;
+};
+
+void collect_instances(const aiScene& scene, const aiNode* node, const aiMatrix4x4& parent,
+                       std::vector<MeshInstance>& out, int depth) {
+  if (!node || depth > 1024) return;  // ValidateDataStructure rejects cycles; stay safe anyway
+  const aiMatrix4x4 transform = parent * node->mTransformation;
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    const unsigned index = node->mMeshes[i];
+    if (index < scene.mNumMeshes && scene.mMeshes[index]) {
+      out.push_back({scene.mMeshes[index], transform});
+    }
+  }
+  for (unsigned i = 0; i < node->mNumChildren; ++i) {
+    collect_instances(scene, node->mChildren[i], transform, out, depth + 1);
+  }
+}
+
+/// OFF and PLY headers state element counts up front and assimp allocates them before reading
+/// (assimp's own invalid/OutOfMemory.off claims 353535235358 faces: ~16 GB and 25 s before it
+/// fails). Every vertex or face takes at least one byte of the file, so a count larger than the
+/// file is a corrupt header: reject it before assimp sees it.
+void check_header_counts(const std::filesystem::path& path) {
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(std::max<std::streamsize>(0, in.gcount())));
+
+  const auto check = [&](const std::string& count, const std::string& what) {
+    if (count.empty() ||
+        !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return;  // not a plain count: leave the diagnosis to assimp
+    if (count.size() > 19 || std::stoull(count) > size)
+      fail(path, "corrupt header: " + count + " " + what + " in a file of " + std::to_string(size) +
+                     " bytes");
+  };
+
+  std::istringstream lines(head);
+  std::string line;
+  if (head.rfind("ply", 0) == 0) {
+    while (std::getline(lines, line)) {
+      std::string keyword, name, count;
+      std::istringstream(line) >> keyword >> name >> count;
+      if (keyword == "end_header") return;
+      if (keyword == "element") check(count, "'" + name + "' elements");
+    }
+    return;
+  }
+  // OFF: [ST][C][N][4][n]OFF [BINARY], then (for nOFF) the dimension, then "vertices faces edges";
+  // '#' starts a comment.
+  std::vector<std::string> tokens;
+  while (tokens.size() < 5 && std::getline(lines, line)) {
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    for (std::string w; tokens.size() < 5 && words >> w;) tokens.push_back(w);
+  }
+  if (tokens.empty() || tokens[0].size() < 3 ||
+      tokens[0].compare(tokens[0].size() - 3, 3, "OFF") != 0)
+    return;
+  size_t i = 1;
+  if (i < tokens.size() && tokens[i] == "BINARY") return;
+  if (tokens[0].find('n') != std::string::npos) ++i;  // nOFF: skip the dimension
+  if (i + 1 < tokens.size()) {
+    check(tokens[i], "vertices");
+    check(tokens[i + 1], "faces");
+  }
+}
+
+bool is_triangle_mesh(const aiMesh& mesh) {
+  return (mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0 && mesh.mNumFaces > 0 &&
+         mesh.mVertices != nullptr;
+}
+
+Mesh merge(const std::filesystem::path& path, const std::vector<MeshInstance>& instances) {
+  bool keep_normals = true, keep_uvs = true;
+  size_t vertex_count = 0;
+  for (const MeshInstance& inst : instances) {
+    keep_normals = keep_normals && inst.mesh->HasNormals();
+    keep_uvs = keep_uvs && inst.mesh->HasTextureCoords(0);
+    vertex_count += inst.mesh->mNumVertices;
+  }
+  if (vertex_count > std::numeric_limits<uint32_t>::max()) fail(path, "too many vertices");
+
+  Mesh out;
+  out.name = path.stem().string();
+  out.positions.reserve(vertex_count);
+  if (keep_normals) out.normals.reserve(vertex_count);
+  if (keep_uvs) out.uvs.reserve(vertex_count);
+
+  for (const MeshInstance& inst : instances) {
+    const aiMesh& m = *inst.mesh;
+    const aiMatrix4x4& t = inst.transform;
+    // Normals transform with the inverse transpose of the upper 3×3.
+    aiMatrix3x3 normal_matrix(t);
+    normal_matrix.Inverse().Transpose();
+    // A mirroring transform reverses the winding; flip it back so faces keep their orientation.
+    const bool mirrored = aiMatrix3x3(t).Determinant() < 0.0f;
+
+    const uint32_t base = static_cast<uint32_t>(out.positions.size());
+    for (unsigned v = 0; v < m.mNumVertices; ++v) {
+      const aiVector3D p = t * m.mVertices[v];
+      const Vec3 pos(p.x, p.y, p.z);
+      if (!is_finite(pos)) fail(path, "vertex " + std::to_string(v) + " is NaN or infinite");
+      out.positions.push_back(pos);
+      if (keep_normals) {
+        const aiVector3D n = normal_matrix * m.mNormals[v];
+        out.normals.emplace_back(n.x, n.y, n.z);
+      }
+      if (keep_uvs) out.uvs.emplace_back(m.mTextureCoords[0][v].x, m.mTextureCoords[0][v].y);
+    }
+    for (unsigned f = 0; f < m.mNumFaces; ++f) {
+      const aiFace& face = m.mFaces[f];
+      if (face.mNumIndices != 3 || !face.mIndices) continue;  // stray points/lines
+      Triangle tri{};
+      for (int c = 0; c < 3; ++c) {
+        const unsigned idx = face.mIndices[c];
+        if (idx >= m.mNumVertices) fail(path, "face index out of range");
+        tri.v[c] = base + idx;
+      }
+      if (mirrored) std::swap(tri.v[1], tri.v[2]);
+      out.triangles.push_back(tri);
+    }
+  }
+  if (out.triangles.empty()) fail(path, "the file has no triangles");
+
+  // Unit shading normals; a file with unusable (zero or non-finite) normals falls back to flat
+  // shading rather than feeding NaNs to the renderer.
+  for (Vec3& n : out.normals) {
+    const float len = glm::length(n);
+    if (!(len > 0.0f) || !std::isfinite(len)) {
+      out.normals.clear();
+      break;
+    }
+    n /= len;
+  }
+  return out;
+}
+
+}  // namespace
+
+Mesh load_mesh_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory");
+  check_header_counts(path);
+
+  try {
+    Assimp::Importer importer;
+    // Drop point and line primitives entirely (SortByPType then leaves triangle meshes only).
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    if (!scene) {
+      std::string reason = importer.GetErrorString();
+      if (reason.empty()) reason = "unknown assimp error";
+      fail(path, reason);
+    }
+    if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mNumMeshes == 0 || !scene->mRootNode)
+      fail(path, "the file contains no meshes");
+
+    std::vector<MeshInstance> instances;
+    collect_instances(*scene, scene->mRootNode, aiMatrix4x4(), instances, 0);
+    std::erase_if(instances, [](const MeshInstance& i) { return !is_triangle_mesh(*i.mesh); });
+    if (instances.empty()) fail(path, "the file has no triangles");
+    return merge(path, instances);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(path, "out of memory (corrupt size field?)");
+  } catch (const std::exception& e) {
+    fail(path, e.what());
+  } catch (...) {
+    fail(path, "unknown assimp failure");
+  }
+}
+
+}  // namespace penumbra

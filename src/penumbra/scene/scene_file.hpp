@@ -1,0 +1,22 @@
+// JSON scene files (format: docs/scene-format.md) and scene lookup by name or path.
+#pragma once
+
+#include <filesystem>
+#include <string_view>
+
+#include "penumbra/scene/scene.hpp"
+
+namespace penumbra {
+
+/// Parses a JSON scene file, loads its meshes and textures (relative paths are resolved against
+/// the folder of the JSON file) and validates the result (validate_scene). Throws Error with a
+/// one-line message "<file>: <json path>: <problem>" for any problem: syntax errors (with line
+/// and column), unknown keys, wrong types, missing fields, non-finite or out-of-range numbers,
+/// unknown material names, missing or unreadable mesh/texture files.
+Scene load_scene_file(const std::filesystem::path& path);
+
+/// A built-in scene name (see builtin_scenes()) or the path of a JSON scene file. Throws Error
+/// listing the built-in names when `name_or_path` is neither.
+Scene load_scene(std::string_view name_or_path);
+
+}  // namespace penumbra

@@ -1,0 +1,73 @@
+// The exact reference's own bounding-volume hierarchy over its occluder triangles. The reference
+// judges every other method, so it shares no candidate-search code with any of them [DESIGN.md
+// "An exact reference"]: a bug in a shared BVH would otherwise cancel out of every comparison.
+#pragma once
+
+#include "penumbra/core/math.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra {
+
+class ExactBvh {
+ public:
+  struct Node {
+    // Single precision is enough: the boxes are min/max of single-precision vertices, so they are
+    // exact; the culling tests that read them run in double.
+    Vec3 lo{0.0f};
+    Vec3 hi{0.0f};
+    uint32_t first = 0;  // leaf: first slot in primitives(); inner: index of the right child
+    uint32_t count = 0;  // leaf: number of primitives (> 0); inner: 0 (left child = this + 1)
+  };
+
+  /// Binned-SAH build (16 bins on each axis) over the primitives' boxes. Leaves hold at most
+  /// `leaf_size` primitives unless their centroids coincide (then they cannot be separated).
+  void build(const std::vector<Bounds3>& boxes, int leaf_size);
+
+  bool empty() const { return nodes_.empty(); }
+  const std::vector<Node>& nodes() const { return nodes_; }
+  /// Primitive indices in leaf order (a leaf owns primitives()[first, first + count)).
+  const std::vector<uint32_t>& primitives() const { return order_; }
+  int depth() const { return depth_; }
+
+  /// Depth-first traversal: visits every primitive of every leaf whose box passes
+  /// `overlaps(const Node&)`, in a fixed order (results never depend on threads). `visit(prim)`
+  /// returns false to stop the traversal.
+  template <typename Overlaps, typename Visit>
+  void traverse(Overlaps&& overlaps, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    std::array<uint32_t, kMaxDepth + 2> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const uint32_t index = stack[--top];
+      const Node& node = nodes_[index];
+      if (!overlaps(node)) continue;
+      if (node.count > 0) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+          if (!visit(order_[k])) return;
+        }
+      } else {
+        stack[top++] = node.first;  // right child: visited after the left subtree
+        stack[top++] = index + 1;
+      }
+    }
+  }
+
+  /// The build switches from SAH to object-median splits below this depth, so the depth stays
+  /// below kMaxDepth for any input and the fixed traversal stack cannot overflow.
+  static constexpr int kSahDepth = 48;
+  static constexpr int kMaxDepth = kSahDepth + 34;
+
+ private:
+  uint32_t build_node(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids,
+                      uint32_t begin, uint32_t end, int depth, int leaf_size);
+
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> order_;
+  int depth_ = 0;
+};
+
+}  // namespace penumbra
