@@ -1,15 +1,15 @@
 // Google Benchmark: the Embree baseline every exact method is measured against (issue #2).
 //   ./build/release/bench/bench_references --benchmark_counters_tabular=true
 // Scenes: bunny (needs scripts/fetch-models.sh) and spheres; 512×512; 16×16 grid samples.
-#include "penumbra/pipeline/frame.hpp"
-#include "penumbra/scene/builtin_scenes.hpp"
-#include "penumbra/scene/model_paths.hpp"
-
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <memory>
 #include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
 
 namespace penumbra {
 namespace {
@@ -39,7 +39,8 @@ const Fixture* fixture(const std::string& name, int size, int k) {
 
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const Fixture* f =
+      fixture(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   if (!f) {
     state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
     return;
@@ -52,7 +53,9 @@ void run_method(benchmark::State& state, const std::string& scene, const std::st
     rays = r.per_light[0].counters.count("rays") ? r.per_light[0].counters.at("rays") : 0.0;
     benchmark::DoNotOptimize(r.per_light[0].lit.data());
   }
-  if (rays > 0.0) state.counters["rays_per_s"] = benchmark::Counter(rays, benchmark::Counter::kIsIterationInvariantRate);
+  if (rays > 0.0)
+    state.counters["rays_per_s"] =
+        benchmark::Counter(rays, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["bvh_build_ms"] = f->frame->embree().build_ms();
 }
 
@@ -76,10 +79,21 @@ void BM_EmbreeBuild(benchmark::State& state, const std::string& scene_name) {
   }
 }
 
-BENCHMARK_CAPTURE(BM_RaytracePacket16, bunny, std::string("bunny"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_RaytraceSingle, bunny, std::string("bunny"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_RaytracePacket16, spheres, std::string("spheres"))->Args({512, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_EmbreeBuild, bunny, std::string("bunny"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RaytracePacket16, bunny, std::string("bunny"))
+    ->Args({512, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RaytraceSingle, bunny, std::string("bunny"))
+    ->Args({512, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RaytracePacket16, spheres, std::string("spheres"))
+    ->Args({512, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_EmbreeBuild, bunny, std::string("bunny"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace penumbra

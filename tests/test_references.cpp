@@ -1,14 +1,13 @@
 // The two references against each other and against closed forms, on whole frames
 // (G-buffer → receivers → method), as the CLI runs them.
-#include "support/frame_helpers.hpp"
+#include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
+#include "support/frame_helpers.hpp"
 
 namespace penumbra {
 namespace {
@@ -32,7 +31,8 @@ TEST(References, ExactMatchesClosedFormOnQuadGround) {
   for (size_t i = 0; i < g.pixel_count(); ++i) {
     if (g.is_background(i) || t.scene->meshes[g.mesh_id[i]].name != "ground") continue;
     const Vec3 p = g.shadow_origin(i);
-    EXPECT_NEAR(exact.per_light[0].lit[i], quad_scene_visible_fraction(p.x, p.y, p.z), 2e-5) << "pixel " << i;
+    EXPECT_NEAR(exact.per_light[0].lit[i], quad_scene_visible_fraction(p.x, p.y, p.z), 2e-5)
+        << "pixel " << i;
     ++checked;
   }
   EXPECT_GT(checked, 1000);
@@ -139,7 +139,8 @@ TEST(References, SemiOpaqueOccluderHalvesTheLight) {
   const MethodResult exact = t.run("exact");
   const MethodResult rt = t.run("raytrace");
   // Embree calls a filter several times per hit in packet traversal: both paths must agree.
-  EXPECT_EQ(rt.per_light[0].lit.pixels(), t.run("raytrace", {{"path", "single"}}).per_light[0].lit.pixels());
+  EXPECT_EQ(rt.per_light[0].lit.pixels(),
+            t.run("raytrace", {{"path", "single"}}).per_light[0].lit.pixels());
   const GBuffer& g = t.frame->gbuffer();
   int umbra = 0;
   for (size_t i = 0; i < g.pixel_count(); ++i) {

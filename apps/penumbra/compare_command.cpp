@@ -1,19 +1,17 @@
 // `penumbra compare REF TEST`: error metrics between two visibility files, plus an error map.
-#include "commands.hpp"
-
-#include "penumbra/core/error.hpp"
-#include "penumbra/io/image_io.hpp"
-#include "penumbra/metrics/error_map.hpp"
-#include "penumbra/metrics/error_metrics.hpp"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <regex>
+
+#include "commands.hpp"
+#include "penumbra/core/error.hpp"
+#include "penumbra/io/image_io.hpp"
+#include "penumbra/metrics/error_map.hpp"
+#include "penumbra/metrics/error_metrics.hpp"
 
 namespace penumbra::cli {
 
@@ -34,11 +32,13 @@ std::vector<FloatLayer> light_layers(const std::vector<FloatLayer>& layers) {
   return out;
 }
 
-std::optional<Image<float>> mask_of(const std::filesystem::path& file, const std::vector<FloatLayer>& layers) {
+std::optional<Image<float>> mask_of(const std::filesystem::path& file,
+                                    const std::vector<FloatLayer>& layers) {
   for (const FloatLayer& l : layers)
     if (l.name == "mask") return l.pixels;
   const std::filesystem::path pfm_mask = file.parent_path() / "mask.pfm";
-  if (file.extension() == ".pfm" && std::filesystem::exists(pfm_mask)) return read_float_image(pfm_mask).front().pixels;
+  if (file.extension() == ".pfm" && std::filesystem::exists(pfm_mask))
+    return read_float_image(pfm_mask).front().pixels;
   return std::nullopt;
 }
 
@@ -46,10 +46,12 @@ void run_compare(const CompareArgs& args) {
   const auto ref_all = read_float_image(args.ref);
   const auto test_all = read_float_image(args.test);
   const auto ref = light_layers(ref_all), test = light_layers(test_all);
-  if (ref.empty()) throw Error(args.ref + ": no visibility layer (expected light0, light1, ... or one grey channel)");
+  if (ref.empty())
+    throw Error(args.ref +
+                ": no visibility layer (expected light0, light1, ... or one grey channel)");
   if (ref.size() != test.size())
-    throw Error("the files hold different numbers of lights (" + std::to_string(ref.size()) + " vs " +
-                std::to_string(test.size()) + ")");
+    throw Error("the files hold different numbers of lights (" + std::to_string(ref.size()) +
+                " vs " + std::to_string(test.size()) + ")");
   const std::optional<Image<float>> mask = mask_of(args.ref, ref_all);
 
   nlohmann::json j;
@@ -69,7 +71,8 @@ void run_compare(const CompareArgs& args) {
     const std::filesystem::path dir = args.out;
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "compare.json") << j.dump(2) << "\n";
-    const double scale = args.error_scale > 0.0 ? args.error_scale : std::max(first.max_abs, 1.0 / 255.0);
+    const double scale =
+        args.error_scale > 0.0 ? args.error_scale : std::max(first.max_abs, 1.0 / 255.0);
     write_error_map_png(dir / "error_map.png", abs_difference(ref[0].pixels, test[0].pixels), scale,
                         mask ? &*mask : nullptr);
   }
@@ -79,11 +82,14 @@ void run_compare(const CompareArgs& args) {
 
 void add_compare_command(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
-  CLI::App* cmd = app.add_subcommand("compare", "Compare two visibility files (EXR or PFM) and map their error");
-  cmd->add_option("REF", args->ref, "Reference visibility file (e.g. exact/visibility.exr)")->required();
+  CLI::App* cmd = app.add_subcommand(
+      "compare", "Compare two visibility files (EXR or PFM) and map their error");
+  cmd->add_option("REF", args->ref, "Reference visibility file (e.g. exact/visibility.exr)")
+      ->required();
   cmd->add_option("TEST", args->test, "Visibility file to judge")->required();
   cmd->add_option("--out", args->out, "Folder for compare.json and error_map.png");
-  cmd->add_option("--error-scale", args->error_scale, "Error mapped to the top of the colour scale (default: max error)");
+  cmd->add_option("--error-scale", args->error_scale,
+                  "Error mapped to the top of the colour scale (default: max error)");
   cmd->callback([args] { run_compare(*args); });
 }
 

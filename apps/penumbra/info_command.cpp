@@ -1,11 +1,10 @@
 // `penumbra info SCENE`: what a scene holds, and whether each mesh is closed 2-manifold.
-#include "commands.hpp"
-
-#include "penumbra/scene/scene_file.hpp"
-#include "penumbra/scene/topology.hpp"
-
 #include <cstdio>
 #include <memory>
+
+#include "commands.hpp"
+#include "penumbra/scene/scene_file.hpp"
+#include "penumbra/scene/topology.hpp"
 
 namespace penumbra::cli {
 
@@ -16,30 +15,32 @@ void run_info(const std::string& name) {
   const Bounds3 b = scene.bounds();
   std::printf("scene      %s\n", scene.name.c_str());
   std::printf("triangles  %zu in %zu mesh(es)\n", scene.triangle_count(), scene.meshes.size());
-  std::printf("bounds     (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
-              b.hi.y, b.hi.z, b.diagonal());
-  std::printf("camera     (%.3g, %.3g, %.3g) -> (%.3g, %.3g, %.3g), fov %.3g deg, %dx%d\n", scene.camera.position.x,
-              scene.camera.position.y, scene.camera.position.z, scene.camera.target.x, scene.camera.target.y,
-              scene.camera.target.z, scene.camera.vfov_deg, scene.camera.width, scene.camera.height);
+  std::printf("bounds     (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n", b.lo.x, b.lo.y,
+              b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());
+  std::printf("camera     (%.3g, %.3g, %.3g) -> (%.3g, %.3g, %.3g), fov %.3g deg, %dx%d\n",
+              scene.camera.position.x, scene.camera.position.y, scene.camera.position.z,
+              scene.camera.target.x, scene.camera.target.y, scene.camera.target.z,
+              scene.camera.vfov_deg, scene.camera.width, scene.camera.height);
   for (const Mesh& m : scene.meshes) {
     const MeshTopology t = analyze_topology(m);
     const Material& mat = scene.material_of(m);
     std::printf("mesh       %-12s %8zu triangles  %s", m.name.c_str(), m.triangle_count(),
                 t.closed_manifold ? "closed 2-manifold" : "open/non-manifold");
     if (!t.closed_manifold)
-      std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistent edges)", t.boundary_edges, t.non_manifold_edges,
-                  t.inconsistent_edges);
+      std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistent edges)", t.boundary_edges,
+                  t.non_manifold_edges, t.inconsistent_edges);
     if (mat.alpha_texture >= 0) std::printf(", alpha-textured");
     if (mat.transmittance > 0.0f) std::printf(", transmittance %.3g", mat.transmittance);
     if (!m.casts_shadows) std::printf(", casts no shadows");
     std::printf("\n");
   }
   for (const Light& l : scene.lights) {
-    std::printf("light      %-12s %-6s centre (%.3g, %.3g, %.3g)", l.name.c_str(), std::string(to_string(l.shape)).c_str(),
-                l.center.x, l.center.y, l.center.z);
+    std::printf("light      %-12s %-6s centre (%.3g, %.3g, %.3g)", l.name.c_str(),
+                std::string(to_string(l.shape)).c_str(), l.center.x, l.center.y, l.center.z);
     if (l.shape == LightShape::rect)
       std::printf(", %.3g x %.3g", glm::length(l.edge_u), glm::length(l.edge_v));
-    if (l.shape == LightShape::disk || l.shape == LightShape::sphere) std::printf(", radius %.3g", l.radius);
+    if (l.shape == LightShape::disk || l.shape == LightShape::sphere)
+      std::printf(", radius %.3g", l.radius);
     if (l.is_textured()) std::printf(", textured");
     std::printf(", radiance (%.3g, %.3g, %.3g)\n", l.radiance.x, l.radiance.y, l.radiance.z);
   }
@@ -49,7 +50,8 @@ void run_info(const std::string& name) {
 
 void add_info_command(CLI::App& app) {
   auto scene = std::make_shared<std::string>();
-  CLI::App* cmd = app.add_subcommand("info", "Describe a scene: triangles, bounds, lights, mesh topology");
+  CLI::App* cmd =
+      app.add_subcommand("info", "Describe a scene: triangles, bounds, lights, mesh topology");
   cmd->add_option("SCENE", *scene, "Built-in scene name or scene .json file")->required();
   cmd->callback([scene] { run_info(*scene); });
 }

@@ -1,13 +1,13 @@
 // penumbra: render soft shadows with every method, compare them with the exact reference.
-#include "commands.hpp"
-
-#include "penumbra/core/error.hpp"
-
 #include <cstdio>
 #include <exception>
 
+#include "commands.hpp"
+#include "penumbra/core/error.hpp"
+
 int main(int argc, char** argv) {
-  CLI::App app{"Penumbra: soft shadows from area lights, every published method against an exact reference"};
+  CLI::App app{
+      "Penumbra: soft shadows from area lights, every published method against an exact reference"};
   app.require_subcommand(1);
   penumbra::cli::add_render_command(app);
   penumbra::cli::add_compare_command(app);

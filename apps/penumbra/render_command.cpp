@@ -1,20 +1,18 @@
 // `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
-#include "commands.hpp"
-#include "report_table.hpp"
-
-#include "penumbra/core/error.hpp"
-#include "penumbra/metrics/error_map.hpp"
-#include "penumbra/pipeline/outputs.hpp"
-#include "penumbra/scene/scene_file.hpp"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
+
+#include "commands.hpp"
+#include "penumbra/core/error.hpp"
+#include "penumbra/metrics/error_map.hpp"
+#include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/scene/scene_file.hpp"
+#include "report_table.hpp"
 
 namespace penumbra::cli {
 
@@ -37,19 +35,21 @@ struct RenderArgs {
 void parse_size(const std::string& text, Camera& camera) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
-      h < 1 || w > 16384 || h > 16384)
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w < 1 || h < 1 || w > 16384 || h > 16384)
     throw Error("--size: expected WxH with 1..16384 pixels each, got '" + text + "'");
   camera.width = w;
   camera.height = h;
 }
 
 /// --set method.key=value, grouped by method.
-std::map<std::string, std::map<std::string, std::string>> parse_sets(const std::vector<std::string>& sets) {
+std::map<std::string, std::map<std::string, std::string>> parse_sets(
+    const std::vector<std::string>& sets) {
   std::map<std::string, std::map<std::string, std::string>> out;
   for (const std::string& s : sets) {
     const size_t dot = s.find('.'), eq = s.find('=');
-    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 || eq == dot + 1)
+    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 ||
+        eq == dot + 1)
       throw Error("--set: expected method.option=value, got '" + s + "'");
     out[s.substr(0, dot)][s.substr(dot + 1, eq - dot - 1)] = s.substr(eq + 1);
   }
@@ -67,8 +67,9 @@ std::vector<const MethodInfo*> selected_methods(const std::vector<std::string>& 
     }
   }
   // `exact` first: every other method is measured against it.
-  std::stable_sort(out.begin(), out.end(),
-                   [](const MethodInfo* a, const MethodInfo* b) { return a->name == "exact" && b->name != "exact"; });
+  std::stable_sort(out.begin(), out.end(), [](const MethodInfo* a, const MethodInfo* b) {
+    return a->name == "exact" && b->name != "exact";
+  });
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
@@ -84,21 +85,25 @@ void run_render(const RenderArgs& args) {
   if (!args.size.empty()) parse_size(args.size, scene.camera);
   const auto pattern = parse_sample_pattern(args.pattern);
   if (!pattern) throw Error("--pattern: unknown light-sample pattern '" + args.pattern + "'");
-  const ShadingMode shading = args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
+  const ShadingMode shading =
+      args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
   const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
 
   const std::vector<const MethodInfo*> methods = selected_methods(args.methods);
   const auto sets = parse_sets(args.sets);
   for (const auto& [name, values] : sets) {
     MethodRegistry::builtin().get(name);  // unknown method → error
-    if (std::none_of(methods.begin(), methods.end(), [&](const MethodInfo* m) { return m->name == name; }))
-      std::fprintf(stderr, "penumbra: warning: --set for '%s', which is not rendered\n", name.c_str());
+    if (std::none_of(methods.begin(), methods.end(),
+                     [&](const MethodInfo* m) { return m->name == name; }))
+      std::fprintf(stderr, "penumbra: warning: --set for '%s', which is not rendered\n",
+                   name.c_str());
   }
   // Resolve every method's options before the (long) frame starts, so bad options fail fast.
   std::vector<MethodOptions> options;
   for (const MethodInfo* m : methods) {
     const auto it = sets.find(m->name);
-    options.push_back(resolve_options(*m, it == sets.end() ? std::map<std::string, std::string>{} : it->second));
+    options.push_back(
+        resolve_options(*m, it == sets.end() ? std::map<std::string, std::string>{} : it->second));
   }
 
   const std::filesystem::path out_dir = args.out;
@@ -110,9 +115,9 @@ void run_render(const RenderArgs& args) {
   spec.pattern = *pattern;
   spec.k = args.samples;
   spec.seed = args.seed;
-  std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n", scene.name.c_str(),
-               scene.triangle_count(), scene.lights.size(), scene.camera.width, scene.camera.height,
-               spec.k * spec.k, args.pattern.c_str());
+  std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
+               scene.name.c_str(), scene.triangle_count(), scene.lights.size(), scene.camera.width,
+               scene.camera.height, spec.k * spec.k, args.pattern.c_str());
   const Frame frame(scene, spec);
   if (!args.aovs.empty()) write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
 
@@ -162,15 +167,20 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--method", args->methods, "Method name (repeatable) or 'all'")->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
       ->check(CLI::Range(1, 64));
-  cmd->add_option("--pattern", args->pattern, "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, poisson");
+  cmd->add_option(
+      "--pattern", args->pattern,
+      "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, poisson");
   cmd->add_option("--seed", args->seed, "Seed of the random sample patterns");
   cmd->add_option("--size", args->size, "Image size WxH (overrides the scene's camera)");
   cmd->add_option("--set", args->sets, "Method option, method.option=value (repeatable)");
   cmd->add_option("--out", args->out, "Output folder")->required();
-  cmd->add_option("--float-format", args->float_format, "Float image format")->check(CLI::IsMember({"exr", "pfm"}));
-  cmd->add_option("--aov", args->aovs, "G-buffer layers to write: position,normal,shading_normal,depth,uv,mesh_id")
+  cmd->add_option("--float-format", args->float_format, "Float image format")
+      ->check(CLI::IsMember({"exr", "pfm"}));
+  cmd->add_option("--aov", args->aovs,
+                  "G-buffer layers to write: position,normal,shading_normal,depth,uv,mesh_id")
       ->delimiter(',');
-  cmd->add_option("--shading", args->shading, "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
+  cmd->add_option("--shading", args->shading,
+                  "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
       ->check(CLI::IsMember({"modulate", "integrate"}));
   cmd->callback([args] { run_render(*args); });
 }

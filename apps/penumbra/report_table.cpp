@@ -23,7 +23,8 @@ std::string fmt(const char* format, double value) {
 std::string format_table(const std::vector<TableRow>& rows) {
   const TableRow* rt = find_row(rows, "raytrace");
   std::string out =
-      "| method | time (ms) | speed vs raytrace | mean abs (shadowed) | mean abs | max abs | rmse | > 1/255 |\n"
+      "| method | time (ms) | speed vs raytrace | mean abs (shadowed) | mean abs | max abs | rmse "
+      "| > 1/255 |\n"
       "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const TableRow& r : rows) {
     out += "| " + r.method + " | " + fmt("%.1f", r.ms) + " | ";
@@ -31,7 +32,8 @@ std::string format_table(const std::vector<TableRow>& rows) {
     if (r.vs_exact) {
       const ErrorStats& e = *r.vs_exact;
       out += " | " + fmt("%.5f", e.mean_abs_shadowed) + " | " + fmt("%.5f", e.mean_abs) + " | " +
-             fmt("%.4f", e.max_abs) + " | " + fmt("%.5f", e.rmse) + " | " + fmt("%.4f", e.frac_over_1_255) + " |\n";
+             fmt("%.4f", e.max_abs) + " | " + fmt("%.5f", e.rmse) + " | " +
+             fmt("%.4f", e.frac_over_1_255) + " |\n";
     } else {
       out += r.method == "exact" ? " | (reference) | | | | |\n" : " | - | - | - | - | - |\n";
     }

@@ -1,14 +1,13 @@
 // The comparison table printed by `penumbra render --method ...` with several methods.
 #pragma once
 
-#include "penumbra/metrics/error_metrics.hpp"
-#include "penumbra/pipeline/frame.hpp"
-
 #include <nlohmann/json.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "penumbra/metrics/error_metrics.hpp"
+#include "penumbra/pipeline/frame.hpp"
 
 namespace penumbra::cli {
 

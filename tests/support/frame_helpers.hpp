@@ -1,14 +1,14 @@
 // Running methods on small frames of built-in scenes, for tests.
 #pragma once
 
+#include <map>
+#include <memory>
+#include <string>
+
 #include "penumbra/metrics/error_metrics.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
-
-#include <map>
-#include <memory>
-#include <string>
 
 namespace penumbra::test {
 
@@ -17,7 +17,8 @@ struct TestFrame {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Frame> frame;
 
-  MethodResult run(const std::string& method, const std::map<std::string, std::string>& options = {},
+  MethodResult run(const std::string& method,
+                   const std::map<std::string, std::string>& options = {},
                    bool want_masks = false) const {
     const MethodInfo& info = MethodRegistry::builtin().get(method);
     return frame->run(info, resolve_options(info, options), want_masks);
@@ -33,7 +34,8 @@ inline TestFrame make_test_frame(Scene scene, int width, int height, const Light
   return t;
 }
 
-inline TestFrame make_test_frame(const std::string& builtin, int width, int height, const LightSampleSpec& spec) {
+inline TestFrame make_test_frame(const std::string& builtin, int width, int height,
+                                 const LightSampleSpec& spec) {
   return make_test_frame(make_builtin_scene(builtin), width, height, spec);
 }
 

@@ -2,6 +2,8 @@
 
 namespace penumbra::test {
 
-std::string data_path(const std::string& relative) { return std::string(PENUMBRA_TEST_DATA) + "/" + relative; }
+std::string data_path(const std::string& relative) {
+  return std::string(PENUMBRA_TEST_DATA) + "/" + relative;
+}
 
 }  // namespace penumbra::test

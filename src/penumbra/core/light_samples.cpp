@@ -254,8 +254,8 @@ LightSamples::LightSamples(const LightSampleSpec& spec) : spec_(spec) {
   if (spec.k < 1 || spec.k > kMaxK)
     throw Error("light samples: k must be in [1, " + std::to_string(kMaxK) + "], got " +
                 std::to_string(spec.k));
-  if (spec.interleave_n < 1)
-    throw Error("light samples: interleave_n must be >= 1, got " +
+  if (spec.interleave_n < 1 || spec.interleave_n > 16)
+    throw Error("light samples: interleave_n must be in 1..16, got " +
                 std::to_string(spec.interleave_n));
 
   const int k = spec.k;

@@ -4,13 +4,13 @@
 // the same LightSamples can agree sample by sample.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 
@@ -51,7 +51,7 @@ class LightSamples {
 
  private:
   LightSampleSpec spec_;
-  std::vector<Vec2> shared_;                  // grid, stratified, halton, poisson; base for decorrelated
+  std::vector<Vec2> shared_;  // grid, stratified, halton, poisson; base for decorrelated
   std::vector<std::vector<Vec2>> interleaved_;  // interleave_n² patterns
 };
 

@@ -1,9 +1,8 @@
 // Vector types and small geometric helpers shared by every module.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cmath>
+#include <glm/glm.hpp>
 #include <limits>
 
 namespace penumbra {

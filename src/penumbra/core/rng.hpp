@@ -1,5 +1,6 @@
 // Deterministic random numbers: PCG32 (O'Neill 2014) seeded through SplitMix64, so that a seed and
-// a stream id (e.g. a pixel index) always give the same sequence on every platform and thread count.
+// a stream id (e.g. a pixel index) always give the same sequence on every platform and thread
+// count.
 #pragma once
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 #include "penumbra/pipeline/frame.hpp"
 
-#include "penumbra/core/error.hpp"
-#include "penumbra/render/receivers.hpp"
-
 #include <chrono>
 #include <cmath>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/render/receivers.hpp"
 
 namespace penumbra {
 
@@ -16,13 +16,14 @@ Frame::Frame(const Scene& scene, const LightSampleSpec& samples)
   for (const Light& light : scene.lights) receivers_.push_back(classify_receivers(gbuffer_, light));
 }
 
-MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options, bool want_masks) const {
+MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options,
+                        bool want_masks) const {
   MethodResult result;
   result.method = info.name;
   result.options = options;
   for (size_t l = 0; l < scene_->lights.size(); ++l) {
-    const ShadowContext ctx{*scene_, *embree_, gbuffer_, static_cast<int>(l), scene_->lights[l],
-                            samples_, receivers_[l], want_masks};
+    const ShadowContext ctx{*scene_,           *embree_, gbuffer_,      static_cast<int>(l),
+                            scene_->lights[l], samples_, receivers_[l], want_masks};
     std::unique_ptr<ShadowMethod> method = info.create(options);
     const auto start = std::chrono::steady_clock::now();
     Visibility vis = method->compute(ctx);
@@ -35,12 +36,14 @@ MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options, bo
       if (classes[i] == kBackground) vis.lit[i] = 1.0f;
       if (classes[i] == kBackFacing) vis.lit[i] = 0.0f;
       if (!std::isfinite(vis.lit[i]))
-        throw Error("method '" + info.name + "' produced a non-finite value at pixel " + std::to_string(i));
+        throw Error("method '" + info.name + "' produced a non-finite value at pixel " +
+                    std::to_string(i));
       if (vis.lit_rgb) {
         Vec3& rgb = (*vis.lit_rgb)[i];
         if (classes[i] != kActive) rgb = Vec3(vis.lit[i]);
         if (!is_finite(rgb))
-          throw Error("method '" + info.name + "' produced a non-finite colour at pixel " + std::to_string(i));
+          throw Error("method '" + info.name + "' produced a non-finite colour at pixel " +
+                      std::to_string(i));
       }
     }
     result.per_light.push_back(std::move(vis));

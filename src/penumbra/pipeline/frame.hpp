@@ -2,14 +2,14 @@
 // samples, built once; then any number of methods run on it, each on every light.
 #pragma once
 
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "penumbra/core/light_samples.hpp"
 #include "penumbra/render/embree_scene.hpp"
 #include "penumbra/render/gbuffer.hpp"
 #include "penumbra/shadows/registry.hpp"
-
-#include <memory>
-#include <string>
-#include <vector>
 
 namespace penumbra {
 

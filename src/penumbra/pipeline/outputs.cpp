@@ -1,8 +1,8 @@
 #include "penumbra/pipeline/outputs.hpp"
 
-#include "penumbra/core/error.hpp"
-
 #include <fstream>
+
+#include "penumbra/core/error.hpp"
 
 namespace penumbra {
 
@@ -31,15 +31,16 @@ std::vector<FloatLayer> visibility_layers(const Frame& frame, const MethodResult
   return layers;
 }
 
-void write_visibility(const std::filesystem::path& dir, const Frame& frame, const MethodResult& result,
-                      FloatFormat format) {
+void write_visibility(const std::filesystem::path& dir, const Frame& frame,
+                      const MethodResult& result, FloatFormat format) {
   if (format == FloatFormat::exr) {
     write_exr(dir / "visibility.exr", visibility_layers(frame, result));
     return;
   }
   for (size_t l = 0; l < result.per_light.size(); ++l) {
     const Visibility& vis = result.per_light[l];
-    const std::string file = l == 0 ? "visibility.pfm" : "visibility_light" + std::to_string(l) + ".pfm";
+    const std::string file =
+        l == 0 ? "visibility.pfm" : "visibility_light" + std::to_string(l) + ".pfm";
     if (vis.lit_rgb) {
       write_pfm(dir / file, *vis.lit_rgb);
     } else {
@@ -49,8 +50,8 @@ void write_visibility(const std::filesystem::path& dir, const Frame& frame, cons
   write_pfm(dir / "mask.pfm", surface_mask(frame.gbuffer()));
 }
 
-void write_aovs(const std::filesystem::path& dir, const GBuffer& g, const std::vector<std::string>& aovs,
-                FloatFormat format) {
+void write_aovs(const std::filesystem::path& dir, const GBuffer& g,
+                const std::vector<std::string>& aovs, FloatFormat format) {
   const auto write_vec3 = [&](const std::string& name, const Image<Vec3>& img) {
     if (format == FloatFormat::pfm) return write_pfm(dir / (name + ".pfm"), img);
     std::vector<FloatLayer> layers;
@@ -87,12 +88,14 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& g, const std::v
       for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<float>(g.mesh_id[i]);
       write_scalar("mesh_id", ids);
     } else {
-      throw Error("unknown AOV '" + aov + "' (known: position, normal, shading_normal, depth, uv, mesh_id)");
+      throw Error("unknown AOV '" + aov +
+                  "' (known: position, normal, shading_normal, depth, uv, mesh_id)");
     }
   }
 }
 
-nlohmann::json stats_json(const Frame& frame, const MethodResult& result, const ErrorStats* vs_exact) {
+nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
+                          const ErrorStats* vs_exact) {
   const Scene& scene = frame.scene();
   nlohmann::json j;
   j["method"] = result.method;
@@ -150,7 +153,8 @@ ErrorStats compare_results(const Frame& frame, const MethodResult& ref, const Me
   const Image<float> one = surface_mask(frame.gbuffer());
   Image<float> mask(one.width(), one.height() * static_cast<int>(ref.per_light.size()));
   for (size_t l = 0; l < ref.per_light.size(); ++l)
-    std::copy(one.pixels().begin(), one.pixels().end(), mask.pixels().begin() + static_cast<long>(l * one.size()));
+    std::copy(one.pixels().begin(), one.pixels().end(),
+              mask.pixels().begin() + static_cast<long>(l * one.size()));
   return compare_images(stacked(ref), stacked(test), &mask);
 }
 

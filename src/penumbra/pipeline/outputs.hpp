@@ -2,16 +2,15 @@
 // stats.json and optional G-buffer AOVs.
 #pragma once
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
 #include "penumbra/io/image_io.hpp"
 #include "penumbra/metrics/error_metrics.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/shading.hpp"
-
-#include <nlohmann/json.hpp>
-
-#include <filesystem>
-#include <string>
-#include <vector>
 
 namespace penumbra {
 
@@ -22,17 +21,18 @@ enum class FloatFormat { exr, pfm };
 std::vector<FloatLayer> visibility_layers(const Frame& frame, const MethodResult& result);
 
 /// Writes visibility.exr (all layers) or visibility.pfm (+ visibility_light<l>.pfm, mask.pfm).
-void write_visibility(const std::filesystem::path& dir, const Frame& frame, const MethodResult& result,
-                      FloatFormat format);
+void write_visibility(const std::filesystem::path& dir, const Frame& frame,
+                      const MethodResult& result, FloatFormat format);
 
 /// Writes the G-buffer layers named in `aovs` (position, normal, shading_normal, depth, uv,
 /// mesh_id) as float images.
-void write_aovs(const std::filesystem::path& dir, const GBuffer& gbuffer, const std::vector<std::string>& aovs,
-                FloatFormat format);
+void write_aovs(const std::filesystem::path& dir, const GBuffer& gbuffer,
+                const std::vector<std::string>& aovs, FloatFormat format);
 
 /// Everything stats.json holds: method, parameters, scene, samples, times_ms (with "total"),
 /// counters (per light when there are several), and, when given, the error against `exact`.
-nlohmann::json stats_json(const Frame& frame, const MethodResult& result, const ErrorStats* vs_exact);
+nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
+                          const ErrorStats* vs_exact);
 
 /// Error of `test` against `ref` over every light's surface pixels (pooled).
 ErrorStats compare_results(const Frame& frame, const MethodResult& ref, const MethodResult& test);

@@ -1,12 +1,12 @@
 #include "penumbra/pipeline/shading.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/light_weights.hpp"
-
-#include <algorithm>
-#include <cmath>
 
 namespace penumbra {
 
@@ -35,11 +35,15 @@ Vec3 sample_radiance(const Scene& scene, const Light& light, Vec2 light_uv) {
   return light.radiance * scene.textures[light.emission_texture].sample_rgb(light_uv);
 }
 
-float frame_area(const LightFrame& f) { return glm::length(glm::cross(f.edge_u, f.edge_v)); }
+float frame_area(const LightFrame& f) {
+  return glm::length(glm::cross(f.edge_u, f.edge_v));
+}
 
 }  // namespace
 
-std::string_view to_string(ShadingMode mode) { return mode == ShadingMode::modulate ? "modulate" : "integrate"; }
+std::string_view to_string(ShadingMode mode) {
+  return mode == ShadingMode::modulate ? "modulate" : "integrate";
+}
 
 Vec3 unshadowed_irradiance(const Frame& frame, size_t light_index, size_t i) {
   const Light& light = frame.scene().lights[light_index];
@@ -57,14 +61,16 @@ Vec3 unshadowed_irradiance(const Frame& frame, size_t light_index, size_t i) {
   Vec3 sum(0.0f);
   for (int v = 0; v < kIrradianceGrid; ++v)
     for (int u = 0; u < kIrradianceGrid; ++u) {
-      const Vec2 uv((static_cast<float>(u) + 0.5f) / kIrradianceGrid, (static_cast<float>(v) + 0.5f) / kIrradianceGrid);
+      const Vec2 uv((static_cast<float>(u) + 0.5f) / kIrradianceGrid,
+                    (static_cast<float>(v) + 0.5f) / kIrradianceGrid);
       if (!f.emits(uv)) continue;
       sum += geometry_term(light, f, p, n, f.point(uv), sample_radiance(frame.scene(), light, uv));
     }
   return sum * cell_area;
 }
 
-Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light, ShadingMode mode) {
+Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
+                  ShadingMode mode) {
   const Scene& scene = frame.scene();
   const GBuffer& g = frame.gbuffer();
   const float exposure = auto_exposure(frame);
@@ -94,7 +100,8 @@ Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_
             sum += geometry_term(light, f, p, g.shading_normal[i], f.point(light_uv[s]),
                                  sample_radiance(scene, light, light_uv[s]));
           }
-          if (emitting > 0) irradiance += sum * (frame_area(f) * f.uv_area() / static_cast<float>(emitting));
+          if (emitting > 0)
+            irradiance += sum * (frame_area(f) * f.uv_area() / static_cast<float>(emitting));
         } else {
           const Vec3 visible = vis.lit_rgb ? (*vis.lit_rgb)[i] : Vec3(vis.lit[i]);
           irradiance += visible * unshadowed_irradiance(frame, l, i);

@@ -1,19 +1,20 @@
 // Lambertian direct light from every area light plus ambient, in linear float RGB.
 #pragma once
 
+#include <string_view>
+#include <vector>
+
 #include "penumbra/core/image.hpp"
 #include "penumbra/core/math.hpp"
 #include "penumbra/render/visibility.hpp"
-
-#include <string_view>
-#include <vector>
 
 namespace penumbra {
 
 class Frame;
 
 enum class ShadingMode {
-  /// Direct light = unshadowed irradiance × V_coef (Forest thesis eq. 4.3): works with every method.
+  /// Direct light = unshadowed irradiance × V_coef (Forest thesis eq. 4.3): works with every
+  /// method.
   modulate,
   /// Direct light = Σ over light samples of visibility × radiance × geometry term (Forest eq. 4.6):
   /// needs per-sample masks; lights without masks fall back to `modulate`.
@@ -27,7 +28,8 @@ std::string_view to_string(ShadingMode mode);
 Vec3 unshadowed_irradiance(const Frame& frame, size_t light, size_t pixel);
 
 /// Shades every pixel. `per_light[l]` is the visibility of light l.
-Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light, ShadingMode mode);
+Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
+                  ShadingMode mode);
 
 /// A scale that maps the frame's unshadowed brightness to display range: the same for every method
 /// of a frame, so their pictures compare.

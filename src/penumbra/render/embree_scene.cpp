@@ -1,10 +1,10 @@
 #include "penumbra/render/embree_scene.hpp"
 
-#include "penumbra/core/error.hpp"
-#include "penumbra/core/stats.hpp"
-
 #include <chrono>
 #include <string>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/core/stats.hpp"
 
 namespace penumbra {
 
@@ -55,7 +55,8 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
 
 void check_device(RTCDevice device, const char* what) {
   const RTCError err = rtcGetDeviceError(device);
-  if (err != RTC_ERROR_NONE) throw Error(std::string("Embree error during ") + what + " (code " + std::to_string(err) + ")");
+  if (err != RTC_ERROR_NONE)
+    throw Error(std::string("Embree error during ") + what + " (code " + std::to_string(err) + ")");
 }
 
 }  // namespace
@@ -74,15 +75,17 @@ EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
     const Mesh& mesh = scene.meshes[m];
     const Material& mat = scene.material_of(mesh);
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.positions.size()));
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
       vertices[3 * v + 0] = mesh.positions[v].x;
       vertices[3 * v + 1] = mesh.positions[v].y;
       vertices[3 * v + 2] = mesh.positions[v].z;
     }
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    auto* indices = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
       for (int c = 0; c < 3; ++c) indices[3 * t + c] = mesh.triangles[t].v[c];
     rtcSetGeometryMask(geom, mesh.casts_shadows ? (kMaskVisible | kMaskCaster) : kMaskVisible);

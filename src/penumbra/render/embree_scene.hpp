@@ -2,12 +2,12 @@
 // traces rays. Alpha-textured and semi-opaque materials get occlusion filter functions.
 #pragma once
 
-#include "penumbra/scene/scene.hpp"
-
 #include <embree3/rtcore.h>
 
 #include <cstdint>
 #include <vector>
+
+#include "penumbra/scene/scene.hpp"
 
 namespace penumbra {
 
@@ -52,9 +52,10 @@ class EmbreeScene {
 /// traversal of a two-geometry scene calls it four times per hit), so each ray remembers the
 /// triangles it was already attenuated by and counts each crossing once.
 struct OcclusionContext {
-  static constexpr int kMaxCrossings = 16;  // remembered per ray; later crossings are not deduplicated
+  static constexpr int kMaxCrossings =
+      16;  // remembered per ray; later crossings are not deduplicated
 
-  RTCIntersectContext rtc;  // must stay first: Embree hands filters a pointer to it
+  RTCIntersectContext rtc;         // must stay first: Embree hands filters a pointer to it
   float* transmittance = nullptr;  // per ray id; nullptr when the scene has no semi-opaque material
   uint64_t* crossed = nullptr;     // per ray id: kMaxCrossings (geometry, triangle) keys
   uint8_t* crossed_count = nullptr;  // per ray id
@@ -75,7 +76,8 @@ struct OcclusionContext {
 class OcclusionScratch {
  public:
   explicit OcclusionScratch(int rays)
-      : transmittance_(rays, 1.0f), crossed_(static_cast<size_t>(rays) * OcclusionContext::kMaxCrossings),
+      : transmittance_(rays, 1.0f),
+        crossed_(static_cast<size_t>(rays) * OcclusionContext::kMaxCrossings),
         crossed_count_(rays, 0) {}
   /// A coherent-ray context over this storage.
   OcclusionContext context() {

@@ -42,7 +42,8 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
       const int mesh_index = embree.mesh_of_geometry(rh.hit.geomID);
       const Mesh& mesh = scene.meshes[mesh_index];
       const Triangle& tri = mesh.triangles[rh.hit.primID];
-      const Vec3 p0 = mesh.positions[tri.v[0]], p1 = mesh.positions[tri.v[1]], p2 = mesh.positions[tri.v[2]];
+      const Vec3 p0 = mesh.positions[tri.v[0]], p1 = mesh.positions[tri.v[1]],
+                 p2 = mesh.positions[tri.v[2]];
       const float u = rh.hit.u, v = rh.hit.v;
       // Barycentric reconstruction on the triangle, not org + t·dir: the point then lies on the
       // triangle's plane to float precision, which the shared offset policy relies on.

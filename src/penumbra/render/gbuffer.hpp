@@ -1,10 +1,10 @@
 // The G-buffer: per pixel, the first surface hit by one primary ray through the pixel centre.
 #pragma once
 
+#include <cstdint>
+
 #include "penumbra/core/image.hpp"
 #include "penumbra/core/math.hpp"
-
-#include <cstdint>
 
 namespace penumbra {
 
@@ -17,10 +17,10 @@ struct GBuffer {
   Image<Vec3> world_pos;       // hit point, world space
   Image<Vec3> geo_normal;      // unit geometric normal, flipped to face the camera
   Image<Vec3> shading_normal;  // interpolated vertex normal (or geo_normal), facing the camera
-  Image<float> depth;          // distance from the camera along the ray, world units; +inf = background
-  Image<int32_t> mesh_id;      // index into Scene::meshes; -1 = background
-  Image<int32_t> prim_id;      // triangle index within the mesh
-  Image<Vec2> uv;              // texture coordinates at the hit (0 without UVs)
+  Image<float> depth;      // distance from the camera along the ray, world units; +inf = background
+  Image<int32_t> mesh_id;  // index into Scene::meshes; -1 = background
+  Image<int32_t> prim_id;  // triangle index within the mesh
+  Image<Vec2> uv;          // texture coordinates at the hit (0 without UVs)
   /// Self-intersection offset (world units) of the shared policy below.
   float ray_offset = 0.0f;
 

@@ -2,9 +2,9 @@
 // pixels; the frame driver gives background pixels 1 and back-facing pixels 0.
 #pragma once
 
-#include "penumbra/core/image.hpp"
-
 #include <cstdint>
+
+#include "penumbra/core/image.hpp"
 
 namespace penumbra {
 

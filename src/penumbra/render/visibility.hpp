@@ -2,13 +2,13 @@
 // per-sample bits, coloured visibility, stage times and counters.
 #pragma once
 
-#include "penumbra/core/image.hpp"
-#include "penumbra/core/math.hpp"
-#include "penumbra/core/stats.hpp"
-
 #include <cstdint>
 #include <optional>
 #include <vector>
+
+#include "penumbra/core/image.hpp"
+#include "penumbra/core/math.hpp"
+#include "penumbra/core/stats.hpp"
 
 namespace penumbra {
 
@@ -19,8 +19,11 @@ class SampleMasks {
  public:
   SampleMasks() = default;
   SampleMasks(int width, int height, int samples_per_pixel)
-      : width_(width), height_(height), samples_(samples_per_pixel),
-        words_((samples_per_pixel + 63) / 64), bits_(static_cast<size_t>(width) * height * words_, 0) {}
+      : width_(width),
+        height_(height),
+        samples_(samples_per_pixel),
+        words_((samples_per_pixel + 63) / 64),
+        bits_(static_cast<size_t>(width) * height * words_, 0) {}
 
   int width() const { return width_; }
   int height() const { return height_; }

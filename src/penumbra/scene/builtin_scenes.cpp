@@ -1,13 +1,13 @@
 #include "penumbra/scene/builtin_scenes.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
 #include "penumbra/core/error.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-
-#include <algorithm>
-#include <cmath>
-#include <functional>
 
 namespace penumbra {
 
@@ -70,7 +70,9 @@ Scene quad_scene() {
   add_ground(s);
   const QuadSceneGeometry g = kQuadScene;
   const int mat = add_material(s, "occluder", Vec3(0.6f, 0.3f, 0.2f));
-  add_mesh(s, make_quad(Vec3(0, g.occluder_height, 0), Vec3(0, 0, g.occluder_side), Vec3(g.occluder_side, 0, 0)),
+  add_mesh(s,
+           make_quad(Vec3(0, g.occluder_height, 0), Vec3(0, 0, g.occluder_side),
+                     Vec3(g.occluder_side, 0, 0)),
            "occluder", mat);
   s.lights.push_back(square_light(Vec3(0, g.light_height, 0), g.light_side, 4.0f));
   s.camera.position = Vec3(0.0f, 2.6f, 3.2f);
@@ -128,7 +130,8 @@ Scene default_scene() {
   const int fence_mat = add_material(s, "fence", Vec3(0.7f, 0.6f, 0.4f), add_fence_texture(s));
   add_mesh(s, make_box(Vec3(-0.6f, 0.35f, 0.1f), Vec3(0.25f, 0.35f, 0.25f)), "box", red);
   add_mesh(s, make_sphere(Vec3(0.45f, 0.55f, -0.2f), 0.3f, 16, 32), "sphere", blue);
-  add_mesh(s, make_quad(Vec3(0.2f, 1.2f, 0.7f), Vec3(0, 0, 0.8f), Vec3(0.8f, 0, 0)), "fence", fence_mat);
+  add_mesh(s, make_quad(Vec3(0.2f, 1.2f, 0.7f), Vec3(0, 0, 0.8f), Vec3(0.8f, 0, 0)), "fence",
+           fence_mat);
   s.lights.push_back(square_light(Vec3(0.1f, 3.0f, 0.2f), 0.8f, 5.0f));
   s.camera.position = Vec3(2.2f, 2.4f, 3.2f);
   s.camera.target = Vec3(0.0f, 0.4f, 0.1f);
@@ -141,8 +144,8 @@ Scene default_scene() {
 Scene model_scene(const std::string& name, const std::string& file_name) {
   const auto path = find_model(file_name);
   if (!path) {
-    throw Error("scene '" + name + "' needs " + file_name + ", which is not in " + models_dir().string() +
-                ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
+    throw Error("scene '" + name + "' needs " + file_name + ", which is not in " +
+                models_dir().string() + ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
   }
   Mesh model = load_mesh_file(*path);
   const Bounds3 b = model.bounds();
@@ -170,11 +173,16 @@ struct Entry {
 
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> list = {
-      {{"quad", "square occluder parallel to a square light over a ground plane (closed-form penumbra)", false},
+      {{"quad",
+        "square occluder parallel to a square light over a ground plane (closed-form penumbra)",
+        false},
        quad_scene},
-      {{"spheres", "3x3x3 grid of spheres over a plane: overlapping penumbrae", false}, spheres_scene},
-      {{"fence", "alpha-textured fence quad over a plane (perforated occluder)", false}, fence_scene},
-      {{"default", "box, sphere and fence panel over a plane: the main job's scene", false}, default_scene},
+      {{"spheres", "3x3x3 grid of spheres over a plane: overlapping penumbrae", false},
+       spheres_scene},
+      {{"fence", "alpha-textured fence quad over a plane (perforated occluder)", false},
+       fence_scene},
+      {{"default", "box, sphere and fence panel over a plane: the main job's scene", false},
+       default_scene},
       {{"bunny", "Stanford bunny (CGAL data, 75k triangles), the benchmark scene", true},
        [] { return model_scene("bunny", "bunny00.off"); }},
       {{"dragon", "Chinese dragon (CGAL data, 20k triangles), same layout as bunny", true},
@@ -195,7 +203,8 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
 }
 
 bool is_builtin_scene(std::string_view name) {
-  return std::any_of(entries().begin(), entries().end(), [&](const Entry& e) { return e.info.name == name; });
+  return std::any_of(entries().begin(), entries().end(),
+                     [&](const Entry& e) { return e.info.name == name; });
 }
 
 Scene make_builtin_scene(std::string_view name) {
@@ -213,7 +222,8 @@ Scene make_builtin_scene(std::string_view name) {
 
 double quad_scene_visible_fraction(double x, double y, double z) {
   const QuadSceneGeometry g = kQuadScene;
-  // A point p at height y sees occluder coordinate o on the light plane at p + (o - p)(H − y)/(h − y).
+  // A point p at height y sees occluder coordinate o on the light plane at p + (o - p)(H − y)/(h −
+  // y).
   const double ratio = (g.light_height - y) / (g.occluder_height - y);
   const auto covered_1d = [&](double p) {
     const double half_o = 0.5 * g.occluder_side, half_l = 0.5 * g.light_side;

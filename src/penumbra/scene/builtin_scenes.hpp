@@ -2,11 +2,11 @@
 // (bunny, dragon) built around fetched models.
 #pragma once
 
-#include "penumbra/scene/scene.hpp"
-
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "penumbra/scene/scene.hpp"
 
 namespace penumbra {
 
@@ -25,7 +25,7 @@ Scene make_builtin_scene(std::string_view name);
 
 /// Geometry of the `quad` scene, exposed so tests can evaluate its closed-form penumbra.
 struct QuadSceneGeometry {
-  float light_height = 3.0f;     // square light centred on the y axis, facing down
+  float light_height = 3.0f;  // square light centred on the y axis, facing down
   float light_side = 1.0f;
   float occluder_height = 1.0f;  // square occluder parallel to the light and the ground
   float occluder_side = 1.0f;
@@ -36,6 +36,8 @@ inline constexpr QuadSceneGeometry kQuadScene{};
 /// (y < occluder height): the occluder projects from the point onto the light plane as an
 /// axis-aligned square, so the covered fraction is the product of two interval overlaps.
 double quad_scene_visible_fraction(double x, double y, double z);
-inline double quad_scene_visible_fraction(double x, double z) { return quad_scene_visible_fraction(x, 0.0, z); }
+inline double quad_scene_visible_fraction(double x, double z) {
+  return quad_scene_visible_fraction(x, 0.0, z);
+}
 
 }  // namespace penumbra

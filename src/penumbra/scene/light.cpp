@@ -6,20 +6,28 @@ namespace penumbra {
 
 std::string_view to_string(LightShape shape) {
   switch (shape) {
-    case LightShape::point: return "point";
-    case LightShape::rect: return "rect";
-    case LightShape::disk: return "disk";
-    case LightShape::sphere: return "sphere";
+    case LightShape::point:
+      return "point";
+    case LightShape::rect:
+      return "rect";
+    case LightShape::disk:
+      return "disk";
+    case LightShape::sphere:
+      return "sphere";
   }
   return "?";
 }
 
 float Light::area() const {
   switch (shape) {
-    case LightShape::point: return 0.0f;
-    case LightShape::rect: return glm::length(glm::cross(edge_u, edge_v));
-    case LightShape::disk: return static_cast<float>(kPi) * radius * radius;
-    case LightShape::sphere: return 4.0f * static_cast<float>(kPi) * radius * radius;
+    case LightShape::point:
+      return 0.0f;
+    case LightShape::rect:
+      return glm::length(glm::cross(edge_u, edge_v));
+    case LightShape::disk:
+      return static_cast<float>(kPi) * radius * radius;
+    case LightShape::sphere:
+      return 4.0f * static_cast<float>(kPi) * radius * radius;
   }
   return 0.0f;
 }
@@ -30,7 +38,9 @@ bool LightFrame::emits(Vec2 light_uv) const {
   return glm::dot(d, d) <= 0.25f;
 }
 
-float LightFrame::uv_area() const { return round ? static_cast<float>(kPi) * 0.25f : 1.0f; }
+float LightFrame::uv_area() const {
+  return round ? static_cast<float>(kPi) * 0.25f : 1.0f;
+}
 
 namespace {
 

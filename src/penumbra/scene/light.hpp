@@ -1,10 +1,10 @@
 // Area lights (rectangle, disk, sphere, textured rectangle) and the point light as their limit.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <string>
 #include <string_view>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 
@@ -22,8 +22,8 @@ struct Light {
   Vec3 edge_v{0.0f, 0.0f, 0.5f};
   /// disk: the direction it emits toward. sphere: unused.
   Vec3 normal{0.0f, -1.0f, 0.0f};
-  float radius = 0.0f;  // disk, sphere
-  Vec3 radiance{1.0f};  // emitted radiance, linear RGB
+  float radius = 0.0f;        // disk, sphere
+  Vec3 radiance{1.0f};        // emitted radiance, linear RGB
   int emission_texture = -1;  // rect only: radiance is multiplied by this texture over light uv
   bool two_sided = false;
 

@@ -1,9 +1,9 @@
 // Surface materials: what a receiver reflects and how an occluder blocks light.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <string>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 
@@ -12,7 +12,7 @@ inline constexpr float kAlphaCutoff = 0.5f;
 
 struct Material {
   std::string name;
-  Vec3 albedo{0.8f};     // Lambertian reflectance, linear RGB
+  Vec3 albedo{0.8f};       // Lambertian reflectance, linear RGB
   int alpha_texture = -1;  // index into Scene::textures; -1 = fully opaque surface
   /// Fraction of light passing each crossing of this surface (0 = opaque, Forest thesis §4.3.3
   /// semi-opaque occluders). Visibility through k crossings is transmittance^k.

@@ -1,11 +1,11 @@
 // Triangle meshes in world space (the scene loader applies each mesh's transform once).
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 
@@ -17,7 +17,7 @@ struct Mesh {
   std::string name;
   std::vector<Vec3> positions;  // world space
   std::vector<Vec3> normals;    // optional per-vertex shading normals (empty: flat shading)
-  std::vector<Vec2> uvs;        // optional per-vertex texture coordinates (needed by alpha textures)
+  std::vector<Vec2> uvs;  // optional per-vertex texture coordinates (needed by alpha textures)
   std::vector<Triangle> triangles;
   int material = 0;
   /// Occluder / receiver roles (the image-based methods split the scene, Atty et al. §3.1).

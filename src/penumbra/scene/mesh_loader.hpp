@@ -1,9 +1,9 @@
 // Mesh files through assimp (OBJ, PLY, OFF, glTF, STL, ...).
 #pragma once
 
-#include "penumbra/scene/mesh.hpp"
-
 #include <filesystem>
+
+#include "penumbra/scene/mesh.hpp"
 
 namespace penumbra {
 

@@ -1,9 +1,9 @@
 #include "penumbra/scene/scene.hpp"
 
-#include "penumbra/core/error.hpp"
-
 #include <cmath>
 #include <string>
+
+#include "penumbra/core/error.hpp"
 
 namespace penumbra {
 
@@ -25,7 +25,9 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw Error(what);
 }
 
-bool finite(float x) { return std::isfinite(x); }
+bool finite(float x) {
+  return std::isfinite(x);
+}
 
 size_t remove_degenerate_triangles(Mesh& mesh) {
   const size_t before = mesh.triangles.size();
@@ -59,9 +61,11 @@ size_t validate_scene(Scene& scene) {
     const std::string who = "mesh '" + mesh.name + "'";
     require(mesh.material >= 0 && mesh.material < static_cast<int>(scene.materials.size()),
             who + ": material index out of range");
-    for (const Vec3& p : mesh.positions) require(is_finite(p), who + ": vertex position is NaN or infinite");
+    for (const Vec3& p : mesh.positions)
+      require(is_finite(p), who + ": vertex position is NaN or infinite");
     for (const Triangle& t : mesh.triangles)
-      for (uint32_t v : t.v) require(v < mesh.positions.size(), who + ": triangle index out of range");
+      for (uint32_t v : t.v)
+        require(v < mesh.positions.size(), who + ": triangle index out of range");
     require(mesh.normals.empty() || mesh.normals.size() == mesh.positions.size(),
             who + ": normal count differs from vertex count");
     require(mesh.uvs.empty() || mesh.uvs.size() == mesh.positions.size(),
@@ -75,23 +79,28 @@ size_t validate_scene(Scene& scene) {
   require(!scene.lights.empty(), "scene has no lights");
   for (const Light& l : scene.lights) {
     const std::string who = "light '" + l.name + "'";
-    require(is_finite(l.center) && is_finite(l.radiance), who + ": position or radiance not finite");
-    require(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0, who + ": negative radiance");
+    require(is_finite(l.center) && is_finite(l.radiance),
+            who + ": position or radiance not finite");
+    require(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0,
+            who + ": negative radiance");
     switch (l.shape) {
       case LightShape::rect:
         require(is_finite(l.edge_u) && is_finite(l.edge_v), who + ": edges not finite");
-        require(glm::length(glm::cross(l.edge_u, l.edge_v)) > 1e-12f, who + ": rectangle has zero area");
+        require(glm::length(glm::cross(l.edge_u, l.edge_v)) > 1e-12f,
+                who + ": rectangle has zero area");
         require(l.emission_texture < static_cast<int>(scene.textures.size()),
                 who + ": emission texture index out of range");
         break;
       case LightShape::disk:
-        require(is_finite(l.normal) && glm::length(l.normal) > 1e-12f, who + ": disk normal is zero");
+        require(is_finite(l.normal) && glm::length(l.normal) > 1e-12f,
+                who + ": disk normal is zero");
         require(finite(l.radius) && l.radius > 0.0f, who + ": radius must be positive");
         break;
       case LightShape::sphere:
         require(finite(l.radius) && l.radius > 0.0f, who + ": radius must be positive");
         break;
-      case LightShape::point: break;
+      case LightShape::point:
+        break;
     }
     require(l.emission_texture < 0 || l.shape == LightShape::rect,
             who + ": only rectangle lights may have an emission texture");

@@ -1,14 +1,14 @@
 // A complete frame description: meshes, materials, textures, lights and the camera.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "penumbra/scene/camera.hpp"
 #include "penumbra/scene/light.hpp"
 #include "penumbra/scene/material.hpp"
 #include "penumbra/scene/mesh.hpp"
 #include "penumbra/scene/texture.hpp"
-
-#include <string>
-#include <vector>
 
 namespace penumbra {
 

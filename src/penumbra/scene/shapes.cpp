@@ -1,5 +1,6 @@
 #include "penumbra/scene/shapes.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra {
@@ -18,7 +19,8 @@ Mesh make_box(const Vec3& center, const Vec3& h) {
   Mesh m;
   m.name = "box";
   for (int i = 0; i < 8; ++i)
-    m.positions.push_back(center + Vec3((i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z));
+    m.positions.push_back(center +
+                          Vec3((i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z));
   // Outward-facing (counter-clockwise seen from outside) faces.
   const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                 {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -30,6 +32,8 @@ Mesh make_box(const Vec3& center, const Vec3& h) {
 }
 
 Mesh make_sphere(const Vec3& center, float radius, int rings, int segments) {
+  rings = std::max(rings, 2);  // fewer bands cannot close the surface
+  segments = std::max(segments, 3);
   Mesh m;
   m.name = "sphere";
   const float pi = static_cast<float>(kPi);
@@ -39,7 +43,8 @@ Mesh make_sphere(const Vec3& center, float radius, int rings, int segments) {
     const float theta = pi * static_cast<float>(r) / static_cast<float>(rings);
     for (int s = 0; s < segments; ++s) {
       const float phi = 2.0f * pi * static_cast<float>(s) / static_cast<float>(segments);
-      const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                   std::sin(theta) * std::sin(phi));
       m.positions.push_back(center + radius * n);
       m.normals.push_back(n);
     }

@@ -1,10 +1,10 @@
 // Single- or multi-channel float textures (alpha masks, light emission), nearest-texel lookup.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <string>
 #include <vector>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 

@@ -1,13 +1,13 @@
 // `exact`: the per-point analytic visibility and the ShadowMethod around it.
 #include "penumbra/shadows/exact.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/registry.hpp"
-
-#include <algorithm>
-#include <cmath>
 
 namespace penumbra {
 
@@ -15,12 +15,15 @@ namespace {
 
 /// Rec. 709 luminance, the collapse of a textured light's RGB visibility to one V_coef that the
 /// sampling methods use too (light_weights.hpp).
-double luminance(const DVec3& rgb) { return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z; }
+double luminance(const DVec3& rgb) {
+  return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+}
 
 /// Does the segment origin + t·dir, t ∈ (0, 1], cross the triangle (a, b, c)? Möller–Trumbore in
 /// double, edges inclusive. A segment lying in the triangle's plane crosses it in a set of
 /// measure zero and is not counted.
-bool segment_hits_triangle(const DVec3& origin, const DVec3& dir, const DVec3& a, const DVec3& b, const DVec3& c) {
+bool segment_hits_triangle(const DVec3& origin, const DVec3& dir, const DVec3& a, const DVec3& b,
+                           const DVec3& c) {
   const DVec3 e1 = b - a, e2 = c - a;
   const DVec3 pvec = glm::cross(dir, e2);
   const double det = glm::dot(e1, pvec);
@@ -41,7 +44,8 @@ bool segment_hits_triangle(const DVec3& origin, const DVec3& dir, const DVec3& a
 bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, const Vec3& hi) {
   double t0 = 0.0, t1 = 1.0;
   for (int i = 0; i < 3; ++i) {
-    const double pad = 1e-9 * (std::abs(static_cast<double>(lo[i])) + std::abs(static_cast<double>(hi[i])) + 1e-30);
+    const double pad = 1e-9 * (std::abs(static_cast<double>(lo[i])) +
+                               std::abs(static_cast<double>(hi[i])) + 1e-30);
     const double l = lo[i] - pad, h = hi[i] + pad;
     if (dir[i] == 0.0) {
       if (origin[i] < l || origin[i] > h) return false;
@@ -66,7 +70,8 @@ bool covers_square(const ClipperLib::Path& poly) {
   return true;
 }
 
-ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p, const DVec3& light_pos) {
+ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
+                                        const DVec3& light_pos) {
   ExactPointResult r;
   const DVec3 dir = light_pos - p;
   const auto& occluders = scene.occluders();
@@ -102,7 +107,8 @@ ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
 
 }  // namespace
 
-ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light, const Vec3& receiver) {
+ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
+                                  const Vec3& receiver) {
   ExactPointResult r;
   const DVec3 p(receiver);
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
@@ -110,10 +116,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     return r;
   }
   const LightFrame frame = light_frame(light.light(), receiver);
-  if (light.light().shape == LightShape::point) return point_light_visibility(scene, p, DVec3(frame.corner));
+  if (light.light().shape == LightShape::point)
+    return point_light_visibility(scene, p, DVec3(frame.corner));
 
   LightProjection proj;
-  if (!make_light_projection(p, DVec3(frame.corner), DVec3(frame.edge_u), DVec3(frame.edge_v), proj)) {
+  if (!make_light_projection(p, DVec3(frame.corner), DVec3(frame.edge_u), DVec3(frame.edge_v),
+                             proj)) {
     // The receiver lies in the light's plane: every occluder projects onto a line, the visible
     // fraction is undefined. Documented fallback ("light touching geometry"): fully lit.
     r.degenerate = true;
@@ -135,20 +143,21 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
       opaque.push_back(poly);
     }
   };
-  scene.bvh().traverse([&](const ExactBvh::Node& n) { return box_meets_pyramid(proj, n.lo, n.hi); },
-                       [&](uint32_t prim) {
-                         ++r.candidates;
-                         const ExactOccluder& o = occluders[prim];
-                         if (!o.cut) {
-                           add(o, o.v, 3);
-                         } else {
-                           for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
-                             const ExactPiece& piece = scene.pieces()[k];
-                             add(o, scene.piece_vertices().data() + piece.first, static_cast<int>(piece.count));
-                           }
-                         }
-                         return !umbra;  // one opaque polygon hides the whole light: done
-                       });
+  scene.bvh().traverse(
+      [&](const ExactBvh::Node& n) { return box_meets_pyramid(proj, n.lo, n.hi); },
+      [&](uint32_t prim) {
+        ++r.candidates;
+        const ExactOccluder& o = occluders[prim];
+        if (!o.cut) {
+          add(o, o.v, 3);
+        } else {
+          for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
+            const ExactPiece& piece = scene.pieces()[k];
+            add(o, scene.piece_vertices().data() + piece.first, static_cast<int>(piece.count));
+          }
+        }
+        return !umbra;  // one opaque polygon hides the whole light: done
+      });
   if (umbra) {
     r.visible = 0.0;
     r.visible_rgb = DVec3(0.0);
@@ -159,7 +168,8 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const LightOutline& outline = light.outline();
   const std::vector<LightRegion> regions = visible_regions(outline, opaque, semi);
   double visible_area = 0.0;
-  for (const LightRegion& region : regions) visible_area += region.weight * paths_area(region.paths);
+  for (const LightRegion& region : regions)
+    visible_area += region.weight * paths_area(region.paths);
   double v = visible_area / outline.area;
   v = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
   r.visible = v;
@@ -169,8 +179,8 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     // Per channel Σ_texels weight · area(texel ∩ visible) / Σ_texels weight · area(texel ∩ light).
     DVec3 seen(0.0);
     for (const LightRegion& region : regions)
-      seen += region.weight *
-              texel_weighted_area(region.paths, light.texture_width(), light.texture_height(), light.texel_weight());
+      seen += region.weight * texel_weighted_area(region.paths, light.texture_width(),
+                                                  light.texture_height(), light.texel_weight());
     const DVec3& total = light.total_weight();
     for (int c = 0; c < 3; ++c) {
       const double f = total[c] > 0.0 ? seen[c] / total[c] : 1.0;
@@ -183,7 +193,8 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   return r;
 }
 
-double exact_visible_fraction(const ExactScene& scene, const Light& light, Vec3 receiver, int disk_segments) {
+double exact_visible_fraction(const ExactScene& scene, const Light& light, Vec3 receiver,
+                              int disk_segments) {
   const ExactLight exact_light(scene.scene(), light, disk_segments);
   return exact_visibility(scene, exact_light, receiver).visible;
 }
@@ -282,13 +293,25 @@ void register_exact(MethodRegistry& registry) {
   info.summary =
       "analytic visible fraction per pixel: occluders projected onto the light by homogeneous "
       "clipping, union area with exact integer polygon booleans (no samples)";
-  info.reference = "[DESIGN.md: an exact reference]; V_coef [seed 003 eq. 2.10], semi-opaque [seed 003 §4.3.3]";
-  info.exact = true;
+  info.reference =
+      "[DESIGN.md: an exact reference]; V_coef [seed 003 eq. 2.10], semi-opaque [seed 003 §4.3.3]";
+  info.sample_exact = false;  // analytic: the limit raytrace converges to, not sample-equal
   info.options = {
-      {"disk_segments", OptionType::integer, "256",
-       "sides of the equal-area polygon standing in for a round light (|error in V| <= 0.128 (pi/N)^2)",
-       {}, 16, 1 << 20},
-      {"leaf_size", OptionType::integer, "4", "triangles per leaf of the reference's own BVH", {}, 1, 64},
+      {"disk_segments",
+       OptionType::integer,
+       "256",
+       "sides of the equal-area polygon standing in for a round light (|error in V| <= 0.128 "
+       "(pi/N)^2)",
+       {},
+       16,
+       1 << 20},
+      {"leaf_size",
+       OptionType::integer,
+       "4",
+       "triangles per leaf of the reference's own BVH",
+       {},
+       1,
+       64},
   };
   info.create = [](const MethodOptions& o) {
     ExactOptions options;

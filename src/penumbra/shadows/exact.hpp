@@ -9,13 +9,13 @@
 // It shares no candidate search with any method it judges (its own BVH, exact_bvh.hpp).
 #pragma once
 
-#include "penumbra/shadows/exact_bvh.hpp"
-#include "penumbra/shadows/exact_projection.hpp"
-#include "penumbra/shadows/method.hpp"
-
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include "penumbra/shadows/exact_bvh.hpp"
+#include "penumbra/shadows/exact_projection.hpp"
+#include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
 
@@ -99,8 +99,9 @@ struct ExactPointResult {
   /// Per channel visible fraction of the emitted RGB (textured lights; a channel the light does
   /// not emit in reads 1, as in light_weights.hpp). Untextured lights: visible in all three.
   DVec3 visible_rgb{1.0};
-  uint32_t candidates = 0;  // occluder triangles whose box met the pyramid (the segment: point lights)
-  uint32_t polygons = 0;    // non-empty projected occluder polygons
+  uint32_t candidates =
+      0;  // occluder triangles whose box met the pyramid (the segment: point lights)
+  uint32_t polygons = 0;  // non-empty projected occluder polygons
   /// The receiver lies in the light's plane (or is not finite): the projection is undefined and
   /// the documented fallback V = 1 ("light touching geometry") was taken.
   bool degenerate = false;
@@ -108,7 +109,8 @@ struct ExactPointResult {
 
 /// The exact visibility of `light` from the world point `receiver` (double precision throughout;
 /// the light frame comes from light_frame(light.light(), receiver)).
-ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light, const Vec3& receiver);
+ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
+                                  const Vec3& receiver);
 
 /// Convenience for tests and one-off queries: builds the ExactLight on every call.
 double exact_visible_fraction(const ExactScene& scene, const Light& light, Vec3 receiver,

@@ -1,10 +1,10 @@
 #include "penumbra/shadows/exact_bvh.hpp"
 
-#include "penumbra/core/error.hpp"
-
 #include <algorithm>
 #include <limits>
 #include <numeric>
+
+#include "penumbra/core/error.hpp"
 
 namespace penumbra {
 
@@ -25,7 +25,8 @@ void ExactBvh::build(const std::vector<Bounds3>& boxes, int leaf_size) {
   order_.clear();
   depth_ = 0;
   if (boxes.empty()) return;
-  if (boxes.size() >= (size_t{1} << 31)) throw Error("exact: too many occluder triangles for the BVH");
+  if (boxes.size() >= (size_t{1} << 31))
+    throw Error("exact: too many occluder triangles for the BVH");
   std::vector<Vec3> centroids(boxes.size());
   for (size_t i = 0; i < boxes.size(); ++i) centroids[i] = boxes[i].center();
   order_.resize(boxes.size());
@@ -100,11 +101,12 @@ uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vect
     }
     if (best_axis >= 0) {
       const float scale = static_cast<float>(kBins) / extent[best_axis];
-      const auto it = std::partition(order_.begin() + begin, order_.begin() + end, [&](uint32_t prim) {
-        const int b =
-            static_cast<int>((centroids[prim][best_axis] - centroid_bounds.lo[best_axis]) * scale);
-        return std::clamp(b, 0, kBins - 1) < best_split;
-      });
+      const auto it =
+          std::partition(order_.begin() + begin, order_.begin() + end, [&](uint32_t prim) {
+            const int b = static_cast<int>(
+                (centroids[prim][best_axis] - centroid_bounds.lo[best_axis]) * scale);
+            return std::clamp(b, 0, kBins - 1) < best_split;
+          });
       mid = static_cast<uint32_t>(it - order_.begin());
     }
   }
@@ -114,8 +116,9 @@ uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vect
     if (extent.y > extent[axis]) axis = 1;
     if (extent.z > extent[axis]) axis = 2;
     mid = begin + count / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    std::nth_element(
+        order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+        [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
   }
   build_node(boxes, centroids, begin, mid, depth + 1, leaf_size);
   const uint32_t right = build_node(boxes, centroids, mid, end, depth + 1, leaf_size);

@@ -3,11 +3,11 @@
 // "An exact reference"]: a bug in a shared BVH would otherwise cancel out of every comparison.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
 #include <array>
 #include <cstdint>
 #include <vector>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 

@@ -1,9 +1,8 @@
 #include "penumbra/shadows/exact_projection.hpp"
 
-#include "penumbra/core/error.hpp"
-
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <tuple>
 
 namespace penumbra {
@@ -15,13 +14,20 @@ using ClipperLib::IntPoint;
 using ClipperLib::Path;
 using ClipperLib::Paths;
 
+uint64_t splitmix(uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
 cInt to_clipper(double uv) {
   return static_cast<cInt>(std::llround(std::clamp(uv, 0.0, 1.0) * kUvScale));
 }
 
 /// Sutherland–Hodgman against one axis-aligned half-plane: keeps points with
 /// sign · (coordinate[axis] − bound) ≥ 0.
-void clip_axis(const std::vector<DVec2>& in, std::vector<DVec2>& out, int axis, double bound, double sign) {
+void clip_axis(const std::vector<DVec2>& in, std::vector<DVec2>& out, int axis, double bound,
+               double sign) {
   out.clear();
   const size_t n = in.size();
   if (n == 0) return;
@@ -70,7 +76,8 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
   if (!(std::abs(D) > 1e-9 * size)) return false;  // receiver in the light's plane (or NaN)
 
   // Dual basis of (edge_u, edge_v) from the inverse Gram matrix; det = |edge_u × edge_v|².
-  const double g00 = glm::dot(edge_u, edge_u), g01 = glm::dot(edge_u, edge_v), g11 = glm::dot(edge_v, edge_v);
+  const double g00 = glm::dot(edge_u, edge_u), g01 = glm::dot(edge_u, edge_v),
+               g11 = glm::dot(edge_v, edge_v);
   const double det = cross_len * cross_len;
   const DVec3 a = (g11 * edge_u - g01 * edge_v) / det;
   const DVec3 b = (g00 * edge_v - g01 * edge_u) / det;
@@ -83,7 +90,8 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
   // The six faces of the pyramid, as linear inequalities in x − p: −U ≤ 0, U − W ≤ 0 (the side
   // planes through p and the edges u = 0, u = 1), the same for V, W ≤ 1 (the light plane) and
   // −W ≤ 0 (the plane through p parallel to the light).
-  const DVec3 normals[6] = {-out.to_u, out.to_u - out.to_w, -out.to_v, out.to_v - out.to_w, out.to_w, -out.to_w};
+  const DVec3 normals[6] = {
+      -out.to_u, out.to_u - out.to_w, -out.to_v, out.to_v - out.to_w, out.to_w, -out.to_w};
   const double offsets[6] = {0.0, 0.0, 0.0, 0.0, 1.0, 0.0};
   for (int k = 0; k < 6; ++k) {
     out.planes[k].n = normals[k];
@@ -98,7 +106,8 @@ bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& 
     for (int i = 0; i < 3; ++i) {
       const double c = plane.n[i] >= 0.0 ? lo[i] : hi[i];
       min_dot += plane.n[i] * c;
-      magnitude += std::abs(plane.n[i]) * std::max(std::abs(static_cast<double>(lo[i])), std::abs(static_cast<double>(hi[i])));
+      magnitude += std::abs(plane.n[i]) * std::max(std::abs(static_cast<double>(lo[i])),
+                                                   std::abs(static_cast<double>(hi[i])));
     }
     // The relative tolerance keeps the test conservative under rounding (never culls a box that
     // touches the pyramid).
@@ -107,7 +116,8 @@ bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& 
   return true;
 }
 
-bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count, ClipperLib::Path& out) {
+bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                     ClipperLib::Path& out) {
   out.clear();
   if (count < 3 || count > kMaxPolygon) return false;
   // Each of the six clips adds at most one vertex to a convex polygon.
@@ -121,12 +131,18 @@ bool project_polygon(const LightProjection& proj, const DVec3* vertices, int cou
   // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
   const auto f = [](int plane, const DVec3& h) {
     switch (plane) {
-      case 0: return h.z - kMinW;
-      case 1: return 1.0 - h.z;
-      case 2: return h.x;
-      case 3: return h.z - h.x;
-      case 4: return h.y;
-      default: return h.z - h.y;
+      case 0:
+        return h.z - kMinW;
+      case 1:
+        return 1.0 - h.z;
+      case 2:
+        return h.x;
+      case 3:
+        return h.z - h.x;
+      case 4:
+        return h.y;
+      default:
+        return h.z - h.y;
     }
   };
   for (int plane = 0; plane < 6 && n > 0; ++plane) {
@@ -144,7 +160,8 @@ bool project_polygon(const LightProjection& proj, const DVec3* vertices, int cou
         // Interpolate from the lexicographically smaller end: an edge shared by two polygons
         // (traversed in opposite directions) then clips to bit-identical points, so its two
         // copies still cancel in cancel_shared_edges.
-        const bool j_first = std::tie(in[j].x, in[j].y, in[j].z) < std::tie(in[i].x, in[i].y, in[i].z);
+        const bool j_first =
+            std::tie(in[j].x, in[j].y, in[j].z) < std::tie(in[i].x, in[i].y, in[i].z);
         const int a = j_first ? j : i, b = j_first ? i : j;
         const double t = fv[a] / (fv[a] - fv[b]);
         next[m++] = in[a] + t * (in[b] - in[a]);
@@ -225,45 +242,55 @@ double paths_area(const Paths& paths) {
 }
 
 Paths cancel_shared_edges(const Paths& polygons) {
-  // Every directed edge, keyed by its undirected segment; +1 for lo→hi, −1 for hi→lo.
-  struct Edge {
-    IntPoint lo, hi;
-    int dir;
+  // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
+  // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
+  // time). Points pack into 64 bits since coordinates are in [0, 2^30).
+  const auto less = [](const IntPoint& a, const IntPoint& b) {
+    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
   };
-  const auto less = [](const IntPoint& a, const IntPoint& b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); };
-  std::vector<Edge> edges;
+  struct Slot {
+    IntPoint lo, hi;
+    int net = 0;
+    bool used = false;
+  };
   size_t count = 0;
   for (const Path& p : polygons) count += p.size();
-  edges.reserve(count);
+  size_t capacity = 16;
+  while (capacity < 2 * count) capacity *= 2;
+  thread_local std::vector<Slot> table;  // reused: no allocation per pixel
+  table.assign(capacity, Slot{});
+  const auto pack = [](const IntPoint& q) {
+    return (static_cast<uint64_t>(q.X) << 32) ^ static_cast<uint64_t>(q.Y);
+  };
   for (const Path& p : polygons) {
     for (size_t i = 0; i < p.size(); ++i) {
       const IntPoint& a = p[i];
       const IntPoint& b = p[(i + 1) % p.size()];
       if (a == b) continue;
-      if (less(a, b)) {
-        edges.push_back({a, b, 1});
-      } else {
-        edges.push_back({b, a, -1});
+      const bool forward = less(a, b);
+      const IntPoint& lo = forward ? a : b;
+      const IntPoint& hi = forward ? b : a;
+      size_t h = static_cast<size_t>(splitmix(pack(lo) * 0x9e3779b97f4a7c15ull ^ pack(hi))) &
+                 (capacity - 1);
+      while (table[h].used && !(table[h].lo == lo && table[h].hi == hi))
+        h = (h + 1) & (capacity - 1);
+      Slot& slot = table[h];
+      if (!slot.used) {
+        slot.used = true;
+        slot.lo = lo;
+        slot.hi = hi;
       }
+      slot.net += forward ? 1 : -1;
     }
   }
-  std::sort(edges.begin(), edges.end(), [&](const Edge& x, const Edge& y) {
-    if (x.lo != y.lo) return less(x.lo, y.lo);
-    return less(x.hi, y.hi);
-  });
-  // The net multiplicity of each segment survives, as directed edges sorted by their start.
+  // The surviving directed edges, sorted by their start.
   struct Directed {
     IntPoint from, to;
   };
   std::vector<Directed> kept;
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    int net = 0;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) net += edges[j++].dir;
-    for (int k = 0; k < std::abs(net); ++k) {
-      kept.push_back(net > 0 ? Directed{edges[i].lo, edges[i].hi} : Directed{edges[i].hi, edges[i].lo});
-    }
-    i = j;
+  for (const Slot& slot : table) {
+    for (int k = 0; k < std::abs(slot.net); ++k)
+      kept.push_back(slot.net > 0 ? Directed{slot.lo, slot.hi} : Directed{slot.hi, slot.lo});
   }
   std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
     if (x.from != y.from) return less(x.from, y.from);
@@ -276,9 +303,10 @@ Paths cancel_shared_edges(const Paths& polygons) {
   std::vector<size_t> cursor(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
   const auto group_of = [&](const IntPoint& v) {
-    return static_cast<size_t>(std::lower_bound(kept.begin(), kept.end(), v, [&](const Directed& e, const IntPoint& q) {
-                                 return less(e.from, q);
-                               }) - kept.begin());
+    return static_cast<size_t>(
+        std::lower_bound(kept.begin(), kept.end(), v,
+                         [&](const Directed& e, const IntPoint& q) { return less(e.from, q); }) -
+        kept.begin());
   };
   const auto group_end = [&](size_t g) {
     size_t e = g;
@@ -295,7 +323,8 @@ Paths cancel_shared_edges(const Paths& polygons) {
       while (at != start) {
         loop.push_back(at);
         const size_t h = group_of(at);
-        if (h >= kept.size() || kept[h].from != at || cursor[h] >= group_end(h)) break;  // unreachable
+        if (h >= kept.size() || kept[h].from != at || cursor[h] >= group_end(h))
+          break;  // unreachable
         at = kept[cursor[h]++].to;
       }
       if (loop.size() >= 3) loops.push_back(std::move(loop));
@@ -311,7 +340,8 @@ Paths union_polygons(const Paths& polygons, size_t group) {
   level.reserve(polygons.size() / group + 1);
   for (size_t i = 0; i < polygons.size(); i += group) {
     ClipperLib::Clipper c;
-    for (size_t k = i; k < std::min(polygons.size(), i + group); ++k) c.AddPath(polygons[k], ClipperLib::ptSubject, true);
+    for (size_t k = i; k < std::min(polygons.size(), i + group); ++k)
+      c.AddPath(polygons[k], ClipperLib::ptSubject, true);
     level.emplace_back();
     c.Execute(ClipperLib::ctUnion, level.back(), ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   }
@@ -348,14 +378,17 @@ std::vector<LightRegion> visible_regions(const LightOutline& outline, const Path
     } else {
       c.AddPaths(union_polygons(loops, kUnionGroup), ClipperLib::ptClip, true);
     }
-    c.Execute(ClipperLib::ctDifference, regions[0].paths, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    c.Execute(ClipperLib::ctDifference, regions[0].paths, ClipperLib::pftNonZero,
+              ClipperLib::pftNonZero);
   }
-  if (regions[0].paths.empty() || semi.empty()) return regions[0].paths.empty() ? std::vector<LightRegion>{} : regions;
+  if (regions[0].paths.empty() || semi.empty())
+    return regions[0].paths.empty() ? std::vector<LightRegion>{} : regions;
 
   // Groups of equal transmittance, in order of first appearance (deterministic).
   std::vector<double> values;
   for (const SemiPolygon& p : semi)
-    if (std::find(values.begin(), values.end(), p.transmittance) == values.end()) values.push_back(p.transmittance);
+    if (std::find(values.begin(), values.end(), p.transmittance) == values.end())
+      values.push_back(p.transmittance);
 
   const cInt s = static_cast<cInt>(kUvScale);
   const Path reversed_square = {IntPoint(0, 0), IntPoint(0, s), IntPoint(s, s), IntPoint(s, 0)};
@@ -371,10 +404,12 @@ std::vector<LightRegion> visible_regions(const LightOutline& outline, const Path
       for (size_t k = 1; k <= group.size(); ++k) {
         ClipperLib::Clipper c;
         c.AddPaths(loops, ClipperLib::ptSubject, true);
-        for (size_t copy = 1; copy < k; ++copy) c.AddPath(reversed_square, ClipperLib::ptSubject, true);
+        for (size_t copy = 1; copy < k; ++copy)
+          c.AddPath(reversed_square, ClipperLib::ptSubject, true);
         c.AddPaths(regions[r].paths, ClipperLib::ptClip, true);
         LightRegion level;
-        c.Execute(ClipperLib::ctIntersection, level.paths, ClipperLib::pftPositive, ClipperLib::pftNonZero);
+        c.Execute(ClipperLib::ctIntersection, level.paths, ClipperLib::pftPositive,
+                  ClipperLib::pftNonZero);
         if (level.paths.empty()) break;  // no point is covered k times
         level.weight = -regions[r].weight * (1.0 - t) * scale;
         regions.push_back(std::move(level));
@@ -386,21 +421,8 @@ std::vector<LightRegion> visible_regions(const LightOutline& outline, const Path
   return regions;
 }
 
-double clipped_area_uv(const Paths& paths, double u0, double v0, double u1, double v1) {
-  std::vector<DVec2> a, b;
-  double area = 0.0;
-  for (const Path& path : paths) {
-    to_uv(path, a);
-    clip_axis(a, b, 0, u0, 1.0);
-    clip_axis(b, a, 0, u1, -1.0);
-    clip_axis(a, b, 1, v0, 1.0);
-    clip_axis(b, a, 1, v1, -1.0);
-    if (a.size() >= 3) area += shoelace(a);
-  }
-  return area;
-}
-
-DVec3 texel_weighted_area(const Paths& paths, int width, int height, const std::vector<DVec3>& texel_weight) {
+DVec3 texel_weighted_area(const Paths& paths, int width, int height,
+                          const std::vector<DVec3>& texel_weight) {
   DVec3 sum(0.0);
   std::vector<DVec2> poly, row, tmp, cell;
   for (const Path& path : paths) {

@@ -4,12 +4,11 @@
 // polygon booleans.
 #pragma once
 
-#include "penumbra/core/math.hpp"
-
-#include <polyclipping/clipper.hpp>
-
 #include <array>
+#include <polyclipping/clipper.hpp>
 #include <vector>
+
+#include "penumbra/core/math.hpp"
 
 namespace penumbra {
 
@@ -63,7 +62,8 @@ bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& 
 /// writes the light-uv polygon it blocks, in Clipper units with positive orientation. Returns
 /// false when that polygon is empty (or has zero area after rounding).
 inline constexpr int kMaxPolygon = 8;
-bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count, ClipperLib::Path& out);
+bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                     ClipperLib::Path& out);
 
 /// The emitting shape in light uv: the unit square, or for round lights a regular polygon with the
 /// same area as the inscribed circle (see make_light_outline for the error this causes).
@@ -98,10 +98,10 @@ struct LightRegion {
 ClipperLib::Paths cancel_shared_edges(const ClipperLib::Paths& polygons);
 
 /// Union (non-zero fill) of positively oriented polygons by pairwise reduction: groups of `group`
-/// consecutive polygons are united, then the partial unions pairwise. One Clipper pass over
-/// hundreds of overlapping triangles spends its time on the O(n²) crossings of their edges;
-/// neighbours in the input (BVH order, so neighbours in space) first merge into few outlines, so
-/// the later passes see only those outlines' crossings.
+/// consecutive polygons are united, then the partial unions pairwise, so each pass sees the
+/// crossings of partial outlines instead of all O(n²) crossings of the inputs' edges. Used when
+/// cancel_shared_edges still leaves more than kUnionGroup loops (many separate occluders);
+/// measured on the spheres scene before edge cancellation: 4.0 → 1.4 ms per pixel at group 32.
 ClipperLib::Paths union_polygons(const ClipperLib::Paths& polygons, size_t group);
 inline constexpr size_t kUnionGroup = 32;
 
@@ -117,16 +117,12 @@ inline constexpr size_t kUnionGroup = 32;
 /// group's deepest overlap, or once t^k < 1e-12 (the rest changes V by less than that).
 /// Cost: one Clipper intersection per (region, level), i.e. Π over groups of (1 + depth) operations
 /// on outlines; with one transmittance (the usual case) 1 + depth of the semi-opaque overlap.
-std::vector<LightRegion> visible_regions(const LightOutline& outline, const ClipperLib::Paths& opaque,
+std::vector<LightRegion> visible_regions(const LightOutline& outline,
+                                         const ClipperLib::Paths& opaque,
                                          const std::vector<SemiPolygon>& semi);
 
 /// Signed area of paths (Clipper units²): holes subtract.
 double paths_area(const ClipperLib::Paths& paths);
-
-/// Area (uv units²) of the region `paths` within the uv rectangle [u0,u1]×[v0,v1]: each path is
-/// Sutherland–Hodgman-clipped to the rectangle (exact for any simple polygon against a convex
-/// window) and its signed area summed, so holes subtract.
-double clipped_area_uv(const ClipperLib::Paths& paths, double u0, double v0, double u1, double v1);
 
 /// Σ over the texels of a width×height grid over light uv (row 0 at v = 0, texel (tx, ty) covering
 /// [tx/w, (tx+1)/w] × [ty/h, (ty+1)/h]) of texel_weight[ty·w + tx] × area(paths ∩ texel), in uv

@@ -1,12 +1,12 @@
 // ExactScene and ExactLight: the per-frame and per-light preparation of the exact reference,
 // including the decomposition of alpha-textured triangles into their opaque pieces.
-#include "penumbra/core/error.hpp"
-#include "penumbra/core/parallel.hpp"
-#include "penumbra/shadows/exact.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/shadows/exact.hpp"
 
 namespace penumbra {
 
@@ -16,10 +16,13 @@ namespace {
 /// span: beyond it the decomposition would take minutes, so the frame is refused with an Error.
 constexpr double kMaxAlphaCells = double{1 << 26};
 
-double cross2(const DVec2& a, const DVec2& b) { return a.x * b.y - a.y * b.x; }
+double cross2(const DVec2& a, const DVec2& b) {
+  return a.x * b.y - a.y * b.x;
+}
 
 /// Sutherland–Hodgman of a convex uv polygon against sign · (q[axis] − bound) ≥ 0.
-void clip_uv(std::vector<DVec2>& poly, std::vector<DVec2>& tmp, int axis, double bound, double sign) {
+void clip_uv(std::vector<DVec2>& poly, std::vector<DVec2>& tmp, int axis, double bound,
+             double sign) {
   tmp.clear();
   const size_t n = poly.size();
   for (size_t i = 0; i < n; ++i) {
@@ -65,7 +68,8 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
   const DVec2 ext = hi - lo;
   const auto opaque_at = [&](int64_t column, int64_t row) {
     const int64_t w = tex.width, h = tex.height;
-    const int tx = static_cast<int>(((column % w) + w) % w), ty = static_cast<int>(((row % h) + h) % h);
+    const int tx = static_cast<int>(((column % w) + w) % w),
+              ty = static_cast<int>(((row % h) + h) % h);
     return tex.channel(tx, ty, 0) >= kAlphaCutoff;
   };
   if (tex.width <= 0 || tex.height <= 0) {
@@ -81,12 +85,16 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
   }
 
   const double w = tex.width, h = tex.height;
-  const int64_t col_lo = static_cast<int64_t>(std::floor(lo.x * w)), col_hi = static_cast<int64_t>(std::floor(hi.x * w));
-  const int64_t row_lo = static_cast<int64_t>(std::floor(lo.y * h)), row_hi = static_cast<int64_t>(std::floor(hi.y * h));
-  const double cells = (static_cast<double>(col_hi - col_lo) + 1.0) * (static_cast<double>(row_hi - row_lo) + 1.0);
+  const int64_t col_lo = static_cast<int64_t>(std::floor(lo.x * w)),
+                col_hi = static_cast<int64_t>(std::floor(hi.x * w));
+  const int64_t row_lo = static_cast<int64_t>(std::floor(lo.y * h)),
+                row_hi = static_cast<int64_t>(std::floor(hi.y * h));
+  const double cells =
+      (static_cast<double>(col_hi - col_lo) + 1.0) * (static_cast<double>(row_hi - row_lo) + 1.0);
   if (!(cells <= kMaxAlphaCells)) {
-    throw Error("exact: an alpha-textured triangle spans " + std::to_string(static_cast<long long>(cells)) +
-                " texels of its mask (limit " + std::to_string(static_cast<long long>(kMaxAlphaCells)) + ")");
+    throw Error("exact: an alpha-textured triangle spans " +
+                std::to_string(static_cast<long long>(cells)) + " texels of its mask (limit " +
+                std::to_string(static_cast<long long>(kMaxAlphaCells)) + ")");
   }
 
   struct Rect {
@@ -112,7 +120,8 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
           umin = std::min(umin, q.x);
           umax = std::max(umax, q.x);
         }
-        const int64_t first = std::clamp(static_cast<int64_t>(std::floor(umin * w)), col_lo, col_hi);
+        const int64_t first =
+            std::clamp(static_cast<int64_t>(std::floor(umin * w)), col_lo, col_hi);
         const int64_t last = std::clamp(static_cast<int64_t>(std::floor(umax * w)), col_lo, col_hi);
         for (int64_t c = first; c <= last;) {
           if (!opaque_at(c, row)) {
@@ -129,7 +138,8 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
     // Runs identical to an open one extend it; open runs not continued are closed.
     still_open.clear();
     for (const Run& o : open) {
-      const auto it = std::find_if(runs.begin(), runs.end(), [&](const Run& r) { return r.c0 == o.c0 && r.c1 == o.c1; });
+      const auto it = std::find_if(runs.begin(), runs.end(),
+                                   [&](const Run& r) { return r.c0 == o.c0 && r.c1 == o.c1; });
       if (it != runs.end()) {
         still_open.push_back(o);
         runs.erase(it);
@@ -141,8 +151,8 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
     open.swap(still_open);
   }
 
-  if (rects.size() == 1 && rects[0].c0 == col_lo && rects[0].c1 == col_hi + 1 && rects[0].r0 == row_lo &&
-      rects[0].r1 == row_hi + 1) {
+  if (rects.size() == 1 && rects[0].c0 == col_lo && rects[0].c1 == col_hi + 1 &&
+      rects[0].r0 == row_lo && rects[0].r1 == row_hi + 1) {
     out.whole = true;
     return out;
   }
@@ -162,7 +172,14 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
       const double b1 = cross2(d, e2) / det, b2 = cross2(e1, d) / det;
       piece.push_back(world[0] + b1 * (world[1] - world[0]) + b2 * (world[2] - world[0]));
     }
-    out.pieces.push_back(std::move(piece));
+    if (piece.size() <= static_cast<size_t>(kMaxPolygon)) {
+      out.pieces.push_back(std::move(piece));
+    } else {
+      // Triangle ∩ rectangle has at most 7 vertices; should rounding ever add more, split the
+      // convex piece into a fan so project_polygon never refuses it.
+      for (size_t j = 1; j + 1 < piece.size(); ++j)
+        out.pieces.push_back({piece[0], piece[j], piece[j + 1]});
+    }
   }
   return out;
 }
@@ -226,7 +243,8 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
       o.piece_first = static_cast<uint32_t>(pieces_.size());
       o.piece_count = static_cast<uint32_t>(alpha[k].pieces.size());
       for (const std::vector<DVec3>& piece : alpha[k].pieces) {
-        pieces_.push_back({static_cast<uint32_t>(piece_vertices_.size()), static_cast<uint32_t>(piece.size())});
+        pieces_.push_back(
+            {static_cast<uint32_t>(piece_vertices_.size()), static_cast<uint32_t>(piece.size())});
         piece_vertices_.insert(piece_vertices_.end(), piece.begin(), piece.end());
       }
     }
@@ -238,15 +256,17 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
 
 ExactLight::ExactLight(const Scene& scene, const Light& light, int disk_segments)
     : light_(&light),
-      outline_(make_light_outline(light.shape == LightShape::disk || light.shape == LightShape::sphere,
-                                  disk_segments)) {
+      outline_(make_light_outline(
+          light.shape == LightShape::disk || light.shape == LightShape::sphere, disk_segments)) {
   if (!light.is_textured()) return;
   if (light.emission_texture >= static_cast<int>(scene.textures.size())) {
-    throw Error("exact: light '" + light.name + "' names emission texture " + std::to_string(light.emission_texture) +
-                " of " + std::to_string(scene.textures.size()));
+    throw Error("exact: light '" + light.name + "' names emission texture " +
+                std::to_string(light.emission_texture) + " of " +
+                std::to_string(scene.textures.size()));
   }
   const Texture& tex = scene.textures[light.emission_texture];
-  if (tex.width <= 0 || tex.height <= 0) throw Error("exact: empty emission texture '" + tex.name + "'");
+  if (tex.width <= 0 || tex.height <= 0)
+    throw Error("exact: empty emission texture '" + tex.name + "'");
   texture_width_ = tex.width;
   texture_height_ = tex.height;
   texel_weight_.resize(static_cast<size_t>(tex.width) * tex.height);
@@ -255,11 +275,13 @@ ExactLight::ExactLight(const Scene& scene, const Light& light, int disk_segments
   for (int ty = 0; ty < tex.height; ++ty) {
     for (int tx = 0; tx < tex.width; ++tx) {
       const DVec3 rgb = tex.channels < 3 ? DVec3(tex.channel(tx, ty, 0))
-                                         : DVec3(tex.channel(tx, ty, 0), tex.channel(tx, ty, 1), tex.channel(tx, ty, 2));
+                                         : DVec3(tex.channel(tx, ty, 0), tex.channel(tx, ty, 1),
+                                                 tex.channel(tx, ty, 2));
       texel_weight_[static_cast<size_t>(ty) * tex.width + tx] = rgb * DVec3(light.radiance);
     }
   }
-  total_weight_ = texel_weighted_area({outline_.path}, texture_width_, texture_height_, texel_weight_);
+  total_weight_ =
+      texel_weighted_area({outline_.path}, texture_width_, texture_height_, texel_weight_);
 }
 
 }  // namespace penumbra

@@ -3,16 +3,18 @@
 // a textured light weights each sample by its emitted radiance (nearest texel over light uv).
 #pragma once
 
+#include <span>
+
 #include "penumbra/core/math.hpp"
 #include "penumbra/scene/light.hpp"
 #include "penumbra/scene/texture.hpp"
 
-#include <span>
-
 namespace penumbra {
 
 /// Rec. 709 luminance: how a textured light's RGB visibility collapses to one V_coef.
-inline float luminance(const Vec3& rgb) { return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z; }
+inline float luminance(const Vec3& rgb) {
+  return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z;
+}
 
 struct SampleWeights {
   Vec3 visible{0.0f};  // Σ visibility · weight

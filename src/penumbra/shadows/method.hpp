@@ -2,13 +2,13 @@
 // so methods can be swapped, compared pixel by pixel and benchmarked by name.
 #pragma once
 
+#include <cstdint>
+
 #include "penumbra/core/image.hpp"
 #include "penumbra/core/light_samples.hpp"
 #include "penumbra/render/gbuffer.hpp"
 #include "penumbra/render/visibility.hpp"
 #include "penumbra/scene/scene.hpp"
-
-#include <cstdint>
 
 namespace penumbra {
 

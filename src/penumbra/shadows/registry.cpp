@@ -1,10 +1,10 @@
 #include "penumbra/shadows/registry.hpp"
 
-#include "penumbra/core/error.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+
+#include "penumbra/core/error.hpp"
 
 namespace penumbra {
 
@@ -56,25 +56,38 @@ const std::string& MethodOptions::raw(const std::string& key) const {
   return it->second;
 }
 
-int MethodOptions::get_int(const std::string& key) const { return static_cast<int>(std::strtol(raw(key).c_str(), nullptr, 10)); }
-double MethodOptions::get_real(const std::string& key) const { return std::strtod(raw(key).c_str(), nullptr); }
-bool MethodOptions::get_bool(const std::string& key) const { return raw(key) == "true"; }
-const std::string& MethodOptions::get_choice(const std::string& key) const { return raw(key); }
+int MethodOptions::get_int(const std::string& key) const {
+  return static_cast<int>(std::strtol(raw(key).c_str(), nullptr, 10));
+}
+double MethodOptions::get_real(const std::string& key) const {
+  return std::strtod(raw(key).c_str(), nullptr);
+}
+bool MethodOptions::get_bool(const std::string& key) const {
+  return raw(key) == "true";
+}
+const std::string& MethodOptions::get_choice(const std::string& key) const {
+  return raw(key);
+}
 
-MethodOptions resolve_options(const MethodInfo& info, const std::map<std::string, std::string>& overrides) {
+MethodOptions resolve_options(const MethodInfo& info,
+                              const std::map<std::string, std::string>& overrides) {
   MethodOptions out;
-  for (const OptionSpec& spec : info.options) out.values_[spec.key] = check_value(info, spec, spec.default_value);
+  for (const OptionSpec& spec : info.options)
+    out.values_[spec.key] = check_value(info, spec, spec.default_value);
   for (const auto& [key, text] : overrides) {
     const auto it = std::find_if(info.options.begin(), info.options.end(),
                                  [&](const OptionSpec& o) { return o.key == key; });
     if (it == info.options.end())
-      throw Error("method '" + info.name + "' has no option '" + key + "' (options: " + known_keys(info) + ")");
+      throw Error("method '" + info.name + "' has no option '" + key +
+                  "' (options: " + known_keys(info) + ")");
     out.values_[key] = check_value(info, *it, text);
   }
   return out;
 }
 
-void MethodRegistry::add(MethodInfo info) { methods_.push_back(std::move(info)); }
+void MethodRegistry::add(MethodInfo info) {
+  methods_.push_back(std::move(info));
+}
 
 const MethodInfo* MethodRegistry::find(std::string_view name) const {
   for (const MethodInfo& m : methods_)
@@ -94,6 +107,10 @@ const MethodRegistry& MethodRegistry::builtin() {
     MethodRegistry r;
     register_exact(r);
     register_raytrace(r);
+    register_gears(r);
+    register_shadow_volume(r);
+    register_shadow_map(r);
+    register_pcss(r);
     return r;
   }();
   return registry;

@@ -3,14 +3,14 @@
 // MethodInfo.
 #pragma once
 
-#include "penumbra/shadows/method.hpp"
-
 #include <functional>
 #include <map>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
 
@@ -36,7 +36,8 @@ class MethodOptions {
   const std::map<std::string, std::string>& values() const { return values_; }
 
  private:
-  friend MethodOptions resolve_options(const struct MethodInfo&, const std::map<std::string, std::string>&);
+  friend MethodOptions resolve_options(const struct MethodInfo&,
+                                       const std::map<std::string, std::string>&);
   const std::string& raw(const std::string& key) const;
   std::map<std::string, std::string> values_;
 };
@@ -44,15 +45,16 @@ class MethodOptions {
 struct MethodInfo {
   std::string name;
   std::string summary;
-  std::string reference;  // paper and section, e.g. "[seed 004 §3]"
-  bool exact = false;     // same answer as raytrace on the same light samples
+  std::string reference;      // paper and section, e.g. "[seed 004 §3]"
+  bool sample_exact = false;  // same per-sample answer as raytrace on the same light samples
   std::vector<OptionSpec> options;
   std::function<std::unique_ptr<ShadowMethod>(const MethodOptions&)> create;
 };
 
 /// Applies `overrides` (key -> text) to the declared defaults; throws Error for an unknown key or
 /// a value of the wrong type or out of range.
-MethodOptions resolve_options(const MethodInfo& info, const std::map<std::string, std::string>& overrides);
+MethodOptions resolve_options(const MethodInfo& info,
+                              const std::map<std::string, std::string>& overrides);
 
 class MethodRegistry {
  public:
@@ -71,5 +73,9 @@ class MethodRegistry {
 // One registration function per method (shadows/<method>.cpp), called by builtin().
 void register_raytrace(MethodRegistry& registry);
 void register_exact(MethodRegistry& registry);
+void register_gears(MethodRegistry& registry);
+void register_shadow_volume(MethodRegistry& registry);
+void register_shadow_map(MethodRegistry& registry);
+void register_pcss(MethodRegistry& registry);
 
 }  // namespace penumbra

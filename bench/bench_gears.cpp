@@ -1,0 +1,122 @@
+// Google Benchmark: GEARS [seed 004 §4.3] against the Embree baseline at equal samples, in one run.
+//   ./build/release/bench/bench_gears --benchmark_counters_tabular=true
+//   ./build/release/bench/bench_gears --benchmark_filter='/bunny/1024/16$'
+// Args: {image size, k (k×k grid samples), grid resolution, light scale ×1..×5}. Scenes: bunny
+// and dragon (need scripts/fetch-models.sh), spheres. The ratio of interest is
+// Raytrace/Gears of the same Args (raytrace ignores the grid resolution); RaytraceDynamic adds
+// the BVH build a moving scene pays every frame (the paper's "RT dyn." column).
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+namespace penumbra {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+bool available(const std::string& scene) {
+  if (scene == "bunny") return find_model("bunny00.off").has_value();
+  if (scene == "dragon") return find_model("ChineseDragon-10kv.off").has_value();
+  return true;
+}
+
+/// One frame per (scene, size, k, light scale), built once and reused by every iteration.
+const Fixture* fixture(const std::string& name, int size, int k, int light_scale) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key = name + "/" + std::to_string(size) + "/" + std::to_string(k) + "/" +
+                          std::to_string(light_scale);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (!available(name)) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
+    f.scene->camera.width = f.scene->camera.height = size;
+    for (Light& l : f.scene->lights) {
+      l.edge_u *= static_cast<float>(light_scale);
+      l.edge_v *= static_cast<float>(light_scale);
+    }
+    LightSampleSpec spec;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
+                std::map<std::string, std::string> options, bool with_bvh_build = false) {
+  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)),
+                             static_cast<int>(state.range(1)), static_cast<int>(state.range(3)));
+  if (!f) {
+    state.SkipWithError("model not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  if (method == "gears") options["grid"] = std::to_string(state.range(2));
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, options);
+  Counters counters;
+  for (auto _ : state) {
+    if (with_bvh_build) {
+      EmbreeScene rebuilt(*f->scene);  // a dynamic scene rebuilds its BVH every frame
+      benchmark::DoNotOptimize(rebuilt.handle());
+    }
+    const MethodResult r = f->frame->run(info, opts, false);
+    counters = r.per_light[0].counters;
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+  for (const char* key : {"triangles_per_cell_avg", "triangles_per_cell_max",
+                          "samples_per_cell_avg", "samples_per_cell_max", "pairs",
+                          "pairs_without_retraction", "assignments_total", "assignments_necessary"})
+    if (counters.count(key)) state.counters[key] = counters.at(key);
+}
+
+void BM_Gears(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "gears", {{"variant", "edge"}});
+}
+void BM_GearsLut(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "gears", {{"variant", "lut"}});
+}
+void BM_Raytrace(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "raytrace", {{"path", "packet16"}});
+}
+void BM_RaytraceDynamic(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "raytrace", {{"path", "packet16"}}, true);
+}
+
+/// {size, k, grid, light scale}: the headline (Table 1 sizes at k = 16) ...
+void headline(benchmark::internal::Benchmark* b) {
+  for (int size : {512, 1024}) b->Args({size, 16, 128, 1});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
+}
+/// ... and the paper's sweeps at 512²: grid (Table 7), bitmask k (Table 5), light size (Table 6).
+void sweeps(benchmark::internal::Benchmark* b) {
+  for (int grid : {32, 64, 256}) b->Args({512, 16, grid, 1});
+  for (int k : {4, 8, 32}) b->Args({512, k, 128, 1});
+  for (int scale : {2, 3, 4, 5}) b->Args({512, 16, 128, scale});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
+}
+
+BENCHMARK_CAPTURE(BM_Raytrace, bunny, std::string("bunny"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_RaytraceDynamic, bunny, std::string("bunny"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, bunny, std::string("bunny"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_GearsLut, bunny, std::string("bunny"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, dragon, std::string("dragon"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, dragon, std::string("dragon"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, spheres, std::string("spheres"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, spheres, std::string("spheres"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, bunny_sweep, std::string("bunny"))->Apply(sweeps);
+BENCHMARK_CAPTURE(BM_Raytrace, bunny_sweep, std::string("bunny"))->Apply(sweeps);
+
+}  // namespace
+}  // namespace penumbra
+
+BENCHMARK_MAIN();

@@ -1,0 +1,81 @@
+// Google Benchmark: the hard-shadow methods and PCSS against the Embree baseline (issue #3).
+//   ./build/h-hard/bench/bench_hard_shadows --benchmark_counters_tabular=true
+// Scene: bunny (needs scripts/fetch-models.sh), 1024×1024, all cores; light samples k = 1 (the
+// light centre) and 16×16 grid. shadow_volume, shadow_map and pcss ignore k (they use the light
+// centre / the light's size); raytrace traces k² rays per pixel. Compare ratios within one run.
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+namespace penumbra {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+/// One frame per (size, k), built once and reused by every iteration.
+const Fixture* fixture(int size, int k) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key = std::to_string(size) + "/" + std::to_string(k);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (!find_model("bunny00.off")) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene("bunny"));
+    f.scene->camera.width = f.scene->camera.height = size;
+    LightSampleSpec spec;
+    spec.pattern = SamplePattern::grid;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+void run_method(benchmark::State& state, const std::string& method) {
+  const Fixture* f = fixture(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  if (!f) {
+    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, {});
+  for (auto _ : state) {
+    const MethodResult r = f->frame->run(info, opts, false);
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+}
+
+void BM_Raytrace(benchmark::State& state) {
+  run_method(state, "raytrace");
+}
+void BM_ShadowVolume(benchmark::State& state) {
+  run_method(state, "shadow_volume");
+}
+void BM_ShadowMap(benchmark::State& state) {
+  run_method(state, "shadow_map");
+}
+void BM_Pcss(benchmark::State& state) {
+  run_method(state, "pcss");
+}
+
+#define PENUMBRA_HARD_BENCH(fn) \
+  BENCHMARK(fn)->Args({1024, 1})->Args({1024, 16})->Unit(benchmark::kMillisecond)->UseRealTime()
+
+PENUMBRA_HARD_BENCH(BM_Raytrace);
+PENUMBRA_HARD_BENCH(BM_ShadowVolume);
+PENUMBRA_HARD_BENCH(BM_ShadowMap);
+PENUMBRA_HARD_BENCH(BM_Pcss);
+
+}  // namespace
+}  // namespace penumbra
+
+BENCHMARK_MAIN();

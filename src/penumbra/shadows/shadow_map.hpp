@@ -1,0 +1,54 @@
+// `shadow_map` (and the helpers `pcss` shares): hard shadows from a light-space depth map rendered
+// from the light centre [Forest thesis §2.2.2; Valient & Bujnak §1], with constant and
+// slope-scaled depth bias and percentage-closer filtering (Reeves et al. 1987).
+//
+// Depth comparison (the same in shadow_map and pcss): a tap at texel (i, j) is blocked iff the
+// stored caster depth is smaller than the depth, at that texel's centre ray, of the receiver's
+// tangent plane (through the shadow origin, normal = G-buffer geometric normal) minus the bias.
+// Comparing against the receiver plane at each tap ("receiver-plane depth bias") instead of the
+// receiver's own depth removes the acne planar receivers otherwise get from depth quantization and
+// from wide filter kernels; the slope-scaled term (in texels of slope) covers curved receivers.
+#pragma once
+
+#include <string>
+
+#include "penumbra/raster/depth_map.hpp"
+#include "penumbra/shadows/method.hpp"
+
+namespace penumbra {
+
+FaceSelect parse_face_select(const std::string& name);
+
+/// The depth map of ctx's casters from `light_point`, its frustum fitted to the shadow origins of
+/// the kActive pixels (every lookup lands in the map; a caster outside it cannot shadow them).
+DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_point,
+                                   int resolution, FaceSelect faces);
+
+/// Depth tests of one receiver point against a depth map.
+class ShadowMapLookup {
+ public:
+  ShadowMapLookup(const DepthMap& map, double bias_constant, double bias_slope)
+      : map_(map), bias_constant_(bias_constant), bias_slope_(bias_slope) {}
+
+  /// Prepares the tests for shadow origin `p` with unit normal `n`; false if p is not in front of
+  /// the light (then it is treated as lit).
+  bool setup(const DVec3& p, const DVec3& n);
+  /// Map position (texels) and view depth of p.
+  double sx() const { return sx_; }
+  double sy() const { return sy_; }
+  double depth() const { return depth_; }
+  /// Is the tap at texel (i, j) blocked? Outside the map: never.
+  bool blocked(int i, int j) const;
+  /// Stored caster depth at (i, j) if it blocks, else +inf.
+  float blocker_depth(int i, int j) const;
+
+ private:
+  double plane_depth(int i, int j) const;
+
+  const DepthMap& map_;
+  double bias_constant_, bias_slope_;
+  DVec3 p_{0.0}, n_{0.0};
+  double sx_ = 0.0, sy_ = 0.0, depth_ = 0.0, bias_ = 0.0, plane_num_ = 0.0;
+};
+
+}  // namespace penumbra
