@@ -39,10 +39,7 @@ double light_width(const Light& light) {
 class Pcss final : public ShadowMethod {
  public:
   explicit Pcss(const MethodOptions& o)
-      : resolution_(o.get_int("resolution")),
-        faces_(parse_face_select(o.get_choice("faces"))),
-        bias_(o.get_real("bias")),
-        slope_bias_(o.get_real("slope_bias")),
+      : map_(DepthMapSettings::from(o)),
         blocker_(o.get_int("blocker_samples")),
         pcf_(o.get_int("pcf_samples")),
         max_radius_(o.get_real("max_radius")),
@@ -54,13 +51,13 @@ class Pcss final : public ShadowMethod {
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     auto start = std::chrono::steady_clock::now();
     const DepthMap map =
-        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), resolution_, faces_);
-    vis.times.add("depth_map", elapsed(start));
+        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), map_.resolution, map_.faces);
+    vis.times.add("depth_map", elapsed_ms(start));
     start = std::chrono::steady_clock::now();
     const double w_light = light_size_ > 0.0 ? light_size_ : light_width(ctx.light);
     const double z_min = std::max(static_cast<double>(map.min_depth), 1e-9);
     parallel_rows(g.height, [&](int y) {
-      ShadowMapLookup look(map, bias_, slope_bias_);
+      ShadowMapLookup look(map, map_.bias, map_.slope_bias);
       for (int x = 0; x < g.width; ++x) {
         const size_t i = static_cast<size_t>(y) * g.width + x;
         if (ctx.receivers[i] != kActive) continue;
@@ -101,18 +98,13 @@ class Pcss final : public ShadowMethod {
         vis.lit[i] = 1.0f - static_cast<float>(blocked) / static_cast<float>(pcf_ * pcf_);
       }
     });
-    vis.times.add("filter", elapsed(start));
+    vis.times.add("filter", elapsed_ms(start));
     vis.counters["light_width"] = w_light;
     return vis;
   }
 
  private:
-  static double elapsed(std::chrono::steady_clock::time_point s) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count();
-  }
-  int resolution_;
-  FaceSelect faces_;
-  double bias_, slope_bias_;
+  DepthMapSettings map_;
   int blocker_, pcf_;
   double max_radius_, light_size_;
 };
@@ -126,38 +118,27 @@ void register_pcss(MethodRegistry& registry) {
       "percentage-closer soft shadows: blocker search, penumbra width from light size, variable "
       "PCF";
   info.reference = "[Fernando 2005; Forest thesis §2.2.2]";
-  info.options = {
-      {"resolution", OptionType::integer, "2048", "depth map side in texels", {}, 16, 16384},
-      {"faces",
-       OptionType::choice,
-       "front",
-       "caster faces in the map, seen from the light",
-       {"front", "back", "both"}},
-      {"bias", OptionType::real, "0", "constant depth bias, world units", {}, 0, 1e6},
-      {"slope_bias",
-       OptionType::real,
-       "0.5",
-       "slope-scaled bias, texels of depth slope",
-       {},
-       0,
-       1e3},
-      {"blocker_samples", OptionType::integer, "6", "blocker search: B×B taps", {}, 1, 64},
-      {"pcf_samples", OptionType::integer, "8", "filter: P×P taps", {}, 1, 64},
-      {"max_radius",
-       OptionType::real,
-       "64",
-       "largest search/filter half-width, texels",
-       {},
-       0.5,
-       4096},
-      {"light_size",
-       OptionType::real,
-       "0",
-       "light width, world units (0: from the light)",
-       {},
-       0,
-       1e6},
-  };
+  info.options = depth_map_option_specs();
+  info.options.insert(
+      info.options.end(),
+      {
+          {"blocker_samples", OptionType::integer, "6", "blocker search: B×B taps", {}, 1, 64},
+          {"pcf_samples", OptionType::integer, "8", "filter: P×P taps", {}, 1, 64},
+          {"max_radius",
+           OptionType::real,
+           "64",
+           "largest search/filter half-width, texels",
+           {},
+           0.5,
+           4096},
+          {"light_size",
+           OptionType::real,
+           "0",
+           "light width, world units (0: from the light)",
+           {},
+           0,
+           1e6},
+      });
   info.create = [](const MethodOptions& o) { return std::make_unique<Pcss>(o); };
   registry.add(std::move(info));
 }

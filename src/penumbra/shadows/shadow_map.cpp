@@ -19,6 +19,30 @@ FaceSelect parse_face_select(const std::string& name) {
   throw Error("unknown face selection '" + name + "' (front, back, both)");
 }
 
+std::vector<OptionSpec> depth_map_option_specs() {
+  return {
+      {"resolution", OptionType::integer, "2048", "depth map side in texels", {}, 16, 16384},
+      {"faces",
+       OptionType::choice,
+       "front",
+       "caster faces in the map, seen from the light",
+       {"front", "back", "both"}},
+      {"bias", OptionType::real, "0", "constant depth bias, world units", {}, 0, 1e6},
+      {"slope_bias",
+       OptionType::real,
+       "0.5",
+       "slope-scaled bias, texels of depth slope",
+       {},
+       0,
+       1e3},
+  };
+}
+
+DepthMapSettings DepthMapSettings::from(const MethodOptions& o) {
+  return {o.get_int("resolution"), parse_face_select(o.get_choice("faces")), o.get_real("bias"),
+          o.get_real("slope_bias")};
+}
+
 DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_point,
                                    int resolution, FaceSelect faces) {
   std::vector<Vec3> cover;
@@ -68,11 +92,7 @@ namespace {
 class ShadowMap final : public ShadowMethod {
  public:
   explicit ShadowMap(const MethodOptions& o)
-      : resolution_(o.get_int("resolution")),
-        faces_(parse_face_select(o.get_choice("faces"))),
-        bias_(o.get_real("bias")),
-        slope_bias_(o.get_real("slope_bias")),
-        pcf_(o.get_int("pcf")) {}
+      : map_(DepthMapSettings::from(o)), pcf_(o.get_int("pcf")) {}
 
   Visibility compute(const ShadowContext& ctx) override {
     const GBuffer& g = ctx.gbuffer;
@@ -80,13 +100,13 @@ class ShadowMap final : public ShadowMethod {
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     auto start = std::chrono::steady_clock::now();
     const DepthMap map =
-        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), resolution_, faces_);
-    vis.times.add("depth_map", elapsed(start));
+        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), map_.resolution, map_.faces);
+    vis.times.add("depth_map", elapsed_ms(start));
     start = std::chrono::steady_clock::now();
     const int k = pcf_;
     const double half = 0.5 * (k - 1);
     parallel_rows(g.height, [&](int y) {
-      ShadowMapLookup look(map, bias_, slope_bias_);
+      ShadowMapLookup look(map, map_.bias, map_.slope_bias);
       for (int x = 0; x < g.width; ++x) {
         const size_t i = static_cast<size_t>(y) * g.width + x;
         if (ctx.receivers[i] != kActive) continue;
@@ -99,18 +119,13 @@ class ShadowMap final : public ShadowMethod {
         vis.lit[i] = 1.0f - static_cast<float>(blocked) / static_cast<float>(k * k);
       }
     });
-    vis.times.add("lookup", elapsed(start));
+    vis.times.add("lookup", elapsed_ms(start));
     vis.counters["map_texel_tan"] = map.texel_tan;
     return vis;
   }
 
  private:
-  static double elapsed(std::chrono::steady_clock::time_point s) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count();
-  }
-  int resolution_;
-  FaceSelect faces_;
-  double bias_, slope_bias_;
+  DepthMapSettings map_;
   int pcf_;
 };
 
@@ -122,29 +137,16 @@ void register_shadow_map(MethodRegistry& registry) {
   info.summary =
       "hard shadows from a light-centre depth map, constant + slope-scaled bias, k×k PCF";
   info.reference = "[Forest thesis §2.2.2; Valient & Bujnak §1; Reeves et al. 1987]";
-  info.options = {
-      {"resolution", OptionType::integer, "2048", "depth map side in texels", {}, 16, 16384},
-      {"faces",
-       OptionType::choice,
-       "front",
-       "caster faces in the map, seen from the light",
-       {"front", "back", "both"}},
-      {"bias", OptionType::real, "0", "constant depth bias, world units", {}, 0, 1e6},
-      {"slope_bias",
-       OptionType::real,
-       "0.5",
-       "slope-scaled bias, texels of depth slope",
-       {},
-       0,
-       1e3},
-      {"pcf",
-       OptionType::integer,
-       "1",
-       "PCF kernel: k×k texel taps (1 = plain shadow map)",
-       {},
-       1,
-       31},
-  };
+  info.options = depth_map_option_specs();
+  info.options.insert(info.options.end(), {
+                                              {"pcf",
+                                               OptionType::integer,
+                                               "1",
+                                               "PCF kernel: k×k texel taps (1 = plain shadow map)",
+                                               {},
+                                               1,
+                                               31},
+                                          });
   info.create = [](const MethodOptions& o) { return std::make_unique<ShadowMap>(o); };
   registry.add(std::move(info));
 }

@@ -11,13 +11,27 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "penumbra/raster/depth_map.hpp"
 #include "penumbra/shadows/method.hpp"
+#include "penumbra/shadows/registry.hpp"
 
 namespace penumbra {
 
 FaceSelect parse_face_select(const std::string& name);
+
+/// The depth-map settings shadow_map and pcss share, declared once: resolution, faces, bias,
+/// slope_bias.
+std::vector<OptionSpec> depth_map_option_specs();
+struct DepthMapSettings {
+  int resolution = 2048;
+  FaceSelect faces = FaceSelect::front;
+  double bias = 0.0;        // constant, world units
+  double slope_bias = 0.5;  // texels of depth slope
+
+  static DepthMapSettings from(const MethodOptions& options);
+};
 
 /// The depth map of ctx's casters from `light_point`, its frustum fitted to the shadow origins of
 /// the kActive pixels (every lookup lands in the map; a caster outside it cannot shadow them).
