@@ -1,11 +1,11 @@
 // `penumbra compare REF TEST`: error metrics between two visibility files, plus an error map.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
@@ -23,11 +23,15 @@ struct CompareArgs {
 };
 
 /// Visibility layers of a file: "light<l>" (EXR from render), or the single grey layer of a PFM.
+bool is_light_layer(const std::string& name) {
+  return name.size() > 5 && name.compare(0, 5, "light") == 0 &&
+         std::all_of(name.begin() + 5, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 std::vector<FloatLayer> light_layers(const std::vector<FloatLayer>& layers) {
-  static const std::regex light_name("light[0-9]+");
   std::vector<FloatLayer> out;
   for (const FloatLayer& l : layers)
-    if (std::regex_match(l.name, light_name)) out.push_back(l);
+    if (is_light_layer(l.name)) out.push_back(l);
   if (out.empty() && layers.size() == 1) out.push_back(layers.front());
   return out;
 }

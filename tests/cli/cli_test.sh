@@ -61,14 +61,18 @@ fi
 
 # PFM output round-trips through compare.
 if "$bin" render --scene quad --method raytrace --samples 2 --size 24x24 --float-format pfm --out "$work/p" 2>/dev/null &&
-  "$bin" compare "$work/p/visibility.pfm" "$work/p/visibility.pfm" | grep -q "^max_abs *0.0$"; then
+  "$bin" compare "$work/p/visibility.pfm" "$work/p/visibility.pfm" >"$work/self.txt" &&
+  grep -q "^max_abs *0.0$" "$work/self.txt"; then
   ok
 else
   bad "PFM render + compare with itself"
 fi
 
-"$bin" list | grep -q "raytrace" && ok || bad "list lacks raytrace"
-"$bin" info quad | grep -q "closed 2-manifold\|open/non-manifold" && ok || bad "info lacks topology"
+# (Captured first: with pipefail, `grep -q` closing the pipe early would fail the writer.)
+listing="$("$bin" list)"
+grep -q "raytrace" <<<"$listing" && ok || bad "list lacks raytrace"
+info="$("$bin" info quad)"
+grep -q "closed 2-manifold\|open/non-manifold" <<<"$info" && ok || bad "info lacks topology"
 
 # Bad input: clear one-line errors.
 expect_error "unknown scene" render --scene nosuchscene --method exact --out "$work/x"

@@ -111,6 +111,8 @@ const MethodRegistry& MethodRegistry::builtin() {
     register_shadow_volume(r);
     register_shadow_map(r);
     register_pcss(r);
+    register_wedges(r);
+    register_ssm(r);
     return r;
   }();
   return registry;

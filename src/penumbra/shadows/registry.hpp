@@ -77,5 +77,7 @@ void register_gears(MethodRegistry& registry);
 void register_shadow_volume(MethodRegistry& registry);
 void register_shadow_map(MethodRegistry& registry);
 void register_pcss(MethodRegistry& registry);
+void register_wedges(MethodRegistry& registry);
+void register_ssm(MethodRegistry& registry);
 
 }  // namespace penumbra
