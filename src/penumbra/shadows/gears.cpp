@@ -19,6 +19,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/gears_assign.hpp"
 #include "penumbra/shadows/gears_grid_camera.hpp"
+#include "penumbra/shadows/gears_item_cull.hpp"
 #include "penumbra/shadows/gears_lut.hpp"
 #include "penumbra/shadows/gears_raster.hpp"
 #include "penumbra/shadows/light_weights.hpp"
@@ -45,6 +46,7 @@ struct Scratch {
   LineBatch lines;
   std::vector<Vec2> light_uv;
   std::vector<float> su, sv, vis, trans;
+  std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
   std::vector<uint64_t> cover, blocked;
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
 };
@@ -155,6 +157,8 @@ class Gears final : public ShadowMethod {
     }
     std::unique_ptr<EdgeLut> lut;
     if (use_lut) lut = std::make_unique<EdgeLut>(shared, opt_.lut_resolution, opt_.lut_resolution);
+    std::vector<float> shared_u(n), shared_v(n);
+    for (int s = 0; s < n; ++s) shared_u[s] = shared[s].x, shared_v[s] = shared[s].y;
     std::vector<uint64_t> emit_words(words, 0);
     int emit_count = 0;
     for (int s = 0; s < n; ++s)
@@ -195,8 +199,11 @@ class Gears final : public ShadowMethod {
       project_ms += elapsed_ms(t0);
 
       const CellTriangles table = assign_triangles(cam, soup, side, cells, opt_.assign, astats);
-      peak_bytes =
-          std::max(peak_bytes, table.bytes() + cells.sorted.capacity() * sizeof(CellPair) * 2);
+      FlatLight flat = flat_light(cam);
+      if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
+      const std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
+                                            cells.sorted.capacity() * sizeof(CellPair) * 2);
 
       // Work items: (cell, run of ≤ chunk pixels) — cells hold from one to thousands of samples.
       struct Item {
@@ -228,10 +235,17 @@ class Gears final : public ShadowMethod {
             uint64_t l_grid = 0, l_tested = 0, l_volume = 0, l_necessary = 0, l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
-              // Samples are sorted by depth within the cell: the item's last one is its deepest.
-              sc.batch.gather(soup, table.pairs.data() + table.begin[item.cell],
-                              table.pairs.data() + table.end[item.cell], table.zmin.data(),
-                              cells.sample_z[item.end - 1]);
+              // Samples are sorted by depth within the cell, so an item spans few depths.
+              const int m = static_cast<int>(item.end - item.begin);
+              sc.ix.resize(m), sc.iy.resize(m), sc.iz.resize(m);
+              for (int i = 0; i < m; ++i) {
+                const Vec3& q = p_light[cells.sorted[item.begin + i].item];
+                sc.ix[i] = q.x, sc.iy[i] = q.y, sc.iz[i] = cells.sample_z[item.begin + i];
+              }
+              const ItemBounds bounds =
+                  item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
+              sc.batch.gather(packed.data(), table.pairs.data() + table.begin[item.cell],
+                              table.pairs.data() + table.end[item.cell], bounds);
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
               for (uint32_t e = item.begin; e < item.end; ++e) {
@@ -268,8 +282,15 @@ class Gears final : public ShadowMethod {
                   for (int s = 0; s < n; ++s) lo = glm::min(lo, uv[s]), hi = glm::max(hi, uv[s]);
                 }
                 if (point) lo = hi = Vec2(0.0f);
-                for (int s = 0; s < ns; ++s)
-                  sc.su[s] = point ? 0.0f : uv[s].x, sc.sv[s] = point ? 0.0f : uv[s].y;
+                // Sample coordinates as arrays (per-sample rasterizer, alpha): shared ones are
+                // split once per frame.
+                const float* su = shared_u.data();
+                const float* sv = shared_v.data();
+                if (per_pixel_samples || point) {
+                  for (int s = 0; s < ns; ++s)
+                    sc.su[s] = point ? 0.0f : uv[s].x, sc.sv[s] = point ? 0.0f : uv[s].y;
+                  su = sc.su.data(), sv = sc.sv.data();
+                }
 
                 // Emitting samples (round lights): blocking bits are only kept for those.
                 std::vector<uint64_t> emit_dyn;
@@ -289,9 +310,9 @@ class Gears final : public ShadowMethod {
                 auto fully_blocked = [&]() {
                   if (use_rows) {
                     if (emit_count == n) {
-                      for (int j = 0; j < k; ++j)
-                        if (sc.rows[j] != full_row) return false;
-                      return true;
+                      uint32_t all = full_row;
+                      for (int j = 0; j < k; ++j) all &= sc.rows[j];
+                      return all == full_row;
                     }
                     std::vector<uint64_t> tmp(words, 0);
                     rows_to_words(sc.rows, k, tmp.data());
@@ -306,10 +327,20 @@ class Gears final : public ShadowMethod {
 
                 bool done = false;
                 for (int first = 0; first < sc.batch.count && !done; first += kLanes) {
-                  uint32_t surv = setup_batch(sc.batch, first, pl, lo, hi, sc.lines);
+                  uint32_t surv =
+                      setup_batch(sc.batch, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
                   l_tested += std::min(kLanes, sc.batch.count - first);
                   l_volume += std::popcount(surv);
                   bool changed = false;
+                  if (use_rows) {
+                    // Opaque triangles straight into the pixel's rows; the others (alpha,
+                    // semi-opaque) one by one below.
+                    const uint32_t opaque = surv & sc.batch.opaque_lanes(first);
+                    const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
+                    l_necessary += std::popcount(hit);
+                    changed |= hit != 0;
+                    surv &= ~opaque;
+                  }
                   while (surv) {
                     const int lane = std::countr_zero(surv);
                     surv &= surv - 1;
@@ -335,14 +366,15 @@ class Gears final : public ShadowMethod {
                         any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
                       covered = any != 0;
                     } else {
-                      covered = raster_samples(sc.lines, lane, sc.su.data(), sc.sv.data(), ns,
-                                               sc.cover.data());
+                      covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
                     }
                     if (!covered) continue;
                     ++l_necessary;
                     if (soup.opaque[tri]) {
                       if (use_rows) {
-                        for (int j = 0; j < k; ++j) sc.rows[j] |= sc.tri_rows[j];
+                        // Whole 16-row registers (raster_rows zero-fills up to them).
+                        for (int jb = 0; jb < k; jb += kLanes)
+                          for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
                       } else {
                         for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
                       }
@@ -361,7 +393,7 @@ class Gears final : public ShadowMethod {
                         const int s = 64 * i + std::countr_zero(bits);
                         bits &= bits - 1;
                         if (alpha) {
-                          const Vec2 bc = hit_barycentrics(sc.lines, lane, sc.su[s], sc.sv[s]);
+                          const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
                           if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
                               kAlphaCutoff)
                             continue;
@@ -465,7 +497,7 @@ class Gears final : public ShadowMethod {
     c["samples_per_cell_avg"] =
         nonempty_cells ? static_cast<double>(sum_samples) / nonempty_cells : 0.0;
     c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
-    c["assignments_total"] = static_cast<double>(tested.load());    // after the per-item depth cut
+    c["assignments_total"] = static_cast<double>(tested.load());    // after the per-item cull
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());
     c["assignments_necessary"] = static_cast<double>(necessary.load());
     c["pixels_early_full"] = static_cast<double>(early_full.load());

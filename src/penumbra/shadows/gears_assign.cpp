@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
@@ -101,28 +102,29 @@ PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& 
   pc.sample_z.resize(n);
   parallel_chunks(cells, 256, [&](size_t b, size_t e) {
     for (size_t c = b; c < e; ++c)
-      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
-        const float z = points[pc.sorted[i].item].z;
-        pc.sample_z[i] = z;
-        pc.max_z[c] = std::max(pc.max_z[c], z);
-      }
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i)
+        pc.max_z[c] = std::max(pc.max_z[c], points[pc.sorted[i].item].z);
   });
   // Within a cell, nearest samples first: runs of consecutive samples then span few depths, so a
   // work item can drop the candidates that lie entirely deeper than its deepest sample.
+  // Sorted as 64-bit keys (depth bits, index): depths are ≥ +0 here, whose IEEE bit patterns
+  // order like the values; ties go to the lower index.
   parallel_chunks(cells, 64, [&](size_t b, size_t e) {
+    std::vector<uint64_t> keys;
     for (size_t c = b; c < e; ++c) {
-      CellPair* first = pc.sorted.data() + pc.begin[c];
-      CellPair* last = pc.sorted.data() + pc.end[c];
-      std::sort(first, last, [&](const CellPair& x, const CellPair& y) {
-        const float zx = points[x.item].z, zy = points[y.item].z;
-        return zx < zy || (zx == zy && x.item < y.item);
-      });
-      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i)
-        pc.sample_z[i] = points[pc.sorted[i].item].z;
+      keys.clear();
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
+        const uint32_t item = pc.sorted[i].item;
+        keys.push_back(uint64_t{std::bit_cast<uint32_t>(points[item].z + 0.0f)} << 32 | item);
+      }
+      std::sort(keys.begin(), keys.end());
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
+        const uint32_t item = static_cast<uint32_t>(keys[i - pc.begin[c]]);
+        pc.sorted[i].item = pixels[item];  // entries name the caller's pixel index from here on
+        pc.sample_z[i] = points[item].z;
+      }
     }
   });
-  // Entries name the caller's pixel index from here on.
-  for (CellPair& p : pc.sorted) p.item = pixels[p.item];
   return pc;
 }
 

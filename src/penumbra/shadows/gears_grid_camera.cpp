@@ -1,9 +1,12 @@
 #include "penumbra/shadows/gears_grid_camera.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <algorithm>
 #include <cmath>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
 
 namespace penumbra::gears {
 
@@ -77,11 +80,25 @@ GridCamera make_grid_camera(const LightSpace& space, const std::vector<Vec3>& li
   cam.light_min_z = 0.0f;
   for (const Vec3& c : light_corners) cam.light_min_z = std::min(cam.light_min_z, c.z);
   // 3D AABB of samples and light corners (world space, where distances mean something).
+  // Min/max reductions are exact, so the parallel result is the serial one.
+  struct Extent {
+    Bounds3 box;
+    float far_z = -kInfinity;
+    Vec2 lo{kInfinity}, hi{-kInfinity};
+  };
+  tbb::enumerable_thread_specific<Extent> parts;
+  parallel_chunks(samples.size(), 16384, [&](size_t b, size_t e) {
+    Extent& x = parts.local();
+    for (size_t i = b; i < e; ++i) {
+      x.box.extend(space.to_world(samples[i]));
+      x.far_z = std::max(x.far_z, samples[i].z);
+    }
+  });
   Bounds3 box;
   float far_z = light_max_z;
-  for (const Vec3& q : samples) {
-    box.extend(space.to_world(q));
-    far_z = std::max(far_z, q.z);
+  for (const Extent& x : parts) {
+    box.extend(x.box);
+    far_z = std::max(far_z, x.far_z);
   }
   Vec3 light_center_l(0.0f);
   for (const Vec3& c : light_corners) {
@@ -117,12 +134,16 @@ GridCamera make_grid_camera(const LightSpace& space, const std::vector<Vec3>& li
   cam.res_x = cam.res_y = std::max(1, resolution);
   cam.cell_scale = Vec2(1.0f);
   cam.grid_lo = Vec2(0.0f);
+  parallel_chunks(samples.size(), 16384, [&](size_t b, size_t e) {
+    Extent& x = parts.local();
+    for (size_t i = b; i < e; ++i) {
+      const Vec2 g = cam.project_cells(samples[i]);
+      x.lo = glm::min(x.lo, g);
+      x.hi = glm::max(x.hi, g);
+    }
+  });
   Vec2 lo(kInfinity), hi(-kInfinity);
-  for (const Vec3& q : samples) {
-    const Vec2 g = cam.project_cells(q);
-    lo = glm::min(lo, g);
-    hi = glm::max(hi, g);
-  }
+  for (const Extent& x : parts) lo = glm::min(lo, x.lo), hi = glm::max(hi, x.hi);
   if (samples.empty()) lo = hi = Vec2(0.0f);
   const Vec2 ext = glm::max(hi - lo, Vec2(1e-12f));
   // A hair of margin so the extreme samples fall inside the last cell.

@@ -1,6 +1,7 @@
 #include "penumbra/shadows/gears_raster.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #if defined(__AVX512F__)
@@ -60,34 +61,35 @@ inline vi floor_small(vf y) {
 
 }  // namespace
 
-void CandidateBatch::gather(const TriangleSoup& soup, const CellPair* begin, const CellPair* end,
-                            const float* zmin, float max_z) {
+void CandidateBatch::gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
+                            const ItemBounds& item) {
   const size_t most = static_cast<size_t>(end - begin) + kLanes;
   for (auto& a : v)
     if (a.size() < most) a.resize(most);
-  if (tri.size() < most) tri.resize(most);
+  if (tri.size() < most) tri.resize(most), opaque.resize(most);
   count = 0;
+  // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
+  // is unpredictable, the copy is one cache line).
   for (const CellPair* pair = begin; pair != end; ++pair) {
     const uint32_t t = pair->item;
-    if (zmin[t] > max_z) continue;
-    const int i = count++;
+    const PackedTriangle& p = tris[t];
+    const int i = count;
     tri[i] = t;
-    for (int c = 0; c < 3; ++c) {
-      v[3 * c + 0][i] = soup.x[c][t];
-      v[3 * c + 1][i] = soup.y[c][t];
-      v[3 * c + 2][i] = soup.z[c][t];
-    }
+    for (int c = 0; c < 9; ++c) v[c][i] = p.v[c];
+    opaque[i] = static_cast<uint8_t>(p.opaque);
+    count += may_block(p, item);
   }
   padded = (count + kLanes - 1) / kLanes * kLanes;
   // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected).
   for (int i = count; i < padded; ++i) {
     tri[i] = 0;
+    opaque[i] = 0;
     for (auto& a : v) a[i] = 0.0f;
   }
 }
 
 uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
-                     Vec2 uv_hi, LineBatch& out) {
+                     Vec2 uv_hi, int grid_k, LineBatch& out) {
   const vf px = splat(light.p.x), py = splat(light.p.y), pz = splat(light.p.z);
   // Vertices relative to the pixel point.
   const vf ax = load(&batch.v[0][first]) - px, ay = load(&batch.v[1][first]) - py,
@@ -140,58 +142,106 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
     const vf ta = pzv / -az, tb = pzv / -bz, tc = pzv / -cz;
     const vf ua = px + ax * ta, ub = px + bx * tb, uc = px + cx * tc;
     const vf va = py + ay * ta, vb = py + by * tb, vc = py + cy * tc;
-    const vi overlap = (vmin(vmin(ua, ub), uc) <= uv_hi.x) & (vmax(vmax(ua, ub), uc) >= uv_lo.x) &
-                       (vmin(vmin(va, vb), vc) <= uv_hi.y) & (vmax(vmax(va, vb), vc) >= uv_lo.y);
+    const vf u0 = vmin(vmin(ua, ub), uc), u1 = vmax(vmax(ua, ub), uc);
+    const vf v0 = vmin(vmin(va, vb), vc), v1 = vmax(vmax(va, vb), vc);
+    vi overlap = (u0 <= uv_hi.x) & (u1 >= uv_lo.x) & (v0 <= uv_hi.y) & (v1 >= uv_lo.y);
+    if (grid_k > 0) {
+      // Some sample centre ((i + ½)/k, (j + ½)/k) must lie in that bounding box: small shadows
+      // often fall between rows or columns. Widened by 10⁻⁴ light widths (far above the rounding
+      // of the projections), so the rasterizer still decides every sample near an edge.
+      const float kf = static_cast<float>(grid_k), slack = 1e-4f * kf;
+      const vf lim_lo = splat(-2.0f), lim_hi = splat(kf + 1.0f);
+      auto first_centre = [&](vf x) {  // ceil(k·x − ½ − slack), clamped to [−2, k + 1]
+        return -floor_small(-vmin(vmax(kf * x - 0.5f - slack, lim_lo), lim_hi));
+      };
+      auto last_centre = [&](vf x) {  // floor(k·x − ½ + slack), clamped to [−2, k + 1]
+        return floor_small(vmin(vmax(kf * x - 0.5f + slack, lim_lo), lim_hi));
+      };
+      const vi i0 = first_centre(u0), i1 = last_centre(u1);
+      const vi j0 = first_centre(v0), j1 = last_centre(v1);
+      const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
+      overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
+                 ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
+    }
     ok &= overlap | ~between;
   }
   const int live = std::min(kLanes, batch.count - first);
-  return movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
+  const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
+  if (grid_k > 0 && result != 0) {
+    // Row-span form: index space of sample (i, j) at ((i + ½)/k, (j + ½)/k).
+    const float kf = static_cast<float>(grid_k);
+    for (int m = 0; m < 4; ++m) {
+      store(out.al[m], kf * A[m] + 0.5f * (B[m] + C[m]));
+      store(out.inv[m], B[m] != 0.0f ? -1.0f / B[m] : splat(0.0f));
+      store(out.lo_off[m], B[m] > 0.0f ? splat(0.0f) : splat(-kInfinity));
+      store(out.hi_off[m], B[m] < 0.0f ? splat(0.0f) : splat(kInfinity));
+    }
+  }
+  return result;
 }
 
-uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
+namespace {
+
+/// Rows jb .. jb+15 of triangle `lane`'s coverage (row j: bits lo..hi); `valid` gets the non-empty
+/// rows. Branch-free over the four lines (their slopes' signs are unpredictable): line m bounds
+/// i from below by t (b > 0) or from above (b < 0); the offsets pick which (gears_raster.hpp).
+inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& valid_rows) {
   const float kf = static_cast<float>(k);
-  // Index space: sample (i, j) sits at uv ((i + ½)/k, (j + ½)/k); g = α + β i + γ j.
-  float al[4], be[4], ga[4], inv[4];
-  for (int m = 0; m < 4; ++m) {
-    be[m] = lines.b[m][lane];
-    inv[m] = be[m] != 0.0f ? -1.0f / be[m] : 0.0f;
-    ga[m] = lines.c[m][lane];
-    al[m] = kf * lines.a[m][lane] + 0.5f * (be[m] + ga[m]);
-  }
   const vf lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-  vu acc = vu{} + 0u;
-  for (int jb = 0; jb < k; jb += kLanes) {
-    const vf j = lane_index + static_cast<float>(jb);
-    vi lo = vi{} + 0, hi = vi{} + (k - 1);
-    vi empty = j >= kf;
-    for (int m = 0; m < 4; ++m) {
-      const vf cj = al[m] + ga[m] * j;
-      if (be[m] > 0.0f) {
-        // i ≥ −cj/β: lo = ceil(t) = −floor(−t).
-        const vf t = vmin(vmax(cj * inv[m], splat(-2.0f)), splat(kf + 1.0f));
-        const vi c = -floor_small(-t);
-        lo = lo > c ? lo : c;
-      } else if (be[m] < 0.0f) {
-        const vf t = vmin(vmax(cj * inv[m], splat(-2.0f)), splat(kf + 1.0f));
-        const vi f = floor_small(t);
-        hi = hi < f ? hi : f;
-      } else {
-        empty |= cj < 0.0f;
-      }
-    }
-    const vi valid = (lo <= hi) & ~empty;
-    const vi loc = lo < 31 ? lo : vi{} + 31;
-    const vi hic = hi > 0 ? hi : vi{} + 0;
-    vu mask = (vu{} + 2u) << __builtin_convertvector(hic, vu);
-    mask -= (vu{} + 1u) << __builtin_convertvector(loc, vu);
-    mask &= __builtin_convertvector(valid, vu);
-    // Rows j ≥ k are empty (masked above), so whole registers can be stored.
-    std::memcpy(rows + jb, &mask, sizeof(mask));
-    acc |= mask;
+  // A line parallel to the rows (b = 0) is all or nothing per row: rare, kept out of the hot path.
+  const bool flat = (lines.b[0][lane] == 0.0f) | (lines.b[1][lane] == 0.0f) |
+                    (lines.b[2][lane] == 0.0f) | (lines.b[3][lane] == 0.0f);
+  const vf j = lane_index + static_cast<float>(jb);
+  // Span [ceil(max of lower bounds), floor(min of upper bounds)]: ceil and floor are monotonic,
+  // so taking them once after the max/min gives the same integers as taking them per line.
+  vf t_lo = splat(-2.0f), t_hi = splat(kf + 1.0f);  // also the clamp, for the conversions
+  vi empty = j >= kf;
+  for (int m = 0; m < 4; ++m) {
+    const vf cj = lines.al[m][lane] + lines.c[m][lane] * j;
+    const vf t = cj * lines.inv[m][lane];
+    t_lo = vmax(t_lo, t + lines.lo_off[m][lane]);
+    t_hi = vmin(t_hi, t + lines.hi_off[m][lane]);
+    if (flat && lines.b[m][lane] == 0.0f) empty |= cj < 0.0f;
   }
+  const vi lo0 = -floor_small(-vmin(t_lo, splat(kf + 1.0f)));
+  const vi hi0 = floor_small(vmax(t_hi, splat(-2.0f)));
+  const vi lo = lo0 > 0 ? lo0 : vi{} + 0;
+  const vi hi = hi0 < (k - 1) ? hi0 : vi{} + (k - 1);
+  const vi valid = (lo <= hi) & ~empty;
+  vu mask = (vu{} + 2u) << __builtin_convertvector(hi > 0 ? hi : vi{} + 0, vu);
+  mask -= (vu{} + 1u) << __builtin_convertvector(lo < 31 ? lo : vi{} + 31, vu);
+  valid_rows = movemask(valid);
+  return mask & __builtin_convertvector(valid, vu);
+}
+
+}  // namespace
+
+uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
   uint32_t any = 0;
-  for (int r = 0; r < kLanes; ++r) any |= acc[r];
+  for (int jb = 0; jb < k; jb += kLanes) {
+    uint32_t valid;
+    const vu mask = span_rows(lines, lane, k, jb, valid);
+    // Rows j ≥ k are empty, so whole registers can be stored.
+    std::memcpy(rows + jb, &mask, sizeof(mask));
+    any |= valid << jb;
+  }
   return any;
+}
+
+uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows) {
+  uint32_t hit = 0;
+  for (int jb = 0; jb < k; jb += kLanes) {
+    vu acc;
+    std::memcpy(&acc, rows + jb, sizeof(acc));
+    for (uint32_t l = lanes; l; l &= l - 1) {
+      const int lane = std::countr_zero(l);
+      uint32_t valid;
+      acc |= span_rows(lines, lane, k, jb, valid);
+      hit |= static_cast<uint32_t>(valid != 0) << lane;
+    }
+    std::memcpy(rows + jb, &acc, sizeof(acc));
+  }
+  return hit;
 }
 
 bool raster_samples(const LineBatch& lines, int lane, const float* u, const float* v, int n,
@@ -217,6 +267,15 @@ bool raster_samples(const LineBatch& lines, int lane, const float* u, const floa
 }
 
 void rows_to_words(const uint32_t* rows, int k, uint64_t* words) {
+  if (64 % k == 0) {  // k = 1, 2, 4, 8, 16, 32: whole rows per word, assembled in a register
+    const int per = 64 / k, count = (k * k + 63) / 64;
+    for (int w = 0; w < count; ++w) {
+      uint64_t x = 0;
+      for (int r = 0; r < per && w * per + r < k; ++r) x |= uint64_t{rows[w * per + r]} << (r * k);
+      words[w] |= x;
+    }
+    return;
+  }
   for (int j = 0; j < k; ++j) {
     const uint64_t bits = rows[j];
     const int p = j * k;

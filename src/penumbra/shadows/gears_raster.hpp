@@ -12,6 +12,7 @@
 
 #include "penumbra/core/math.hpp"
 #include "penumbra/shadows/gears_assign.hpp"
+#include "penumbra/shadows/gears_item_cull.hpp"
 
 namespace penumbra::gears {
 
@@ -21,12 +22,19 @@ inline constexpr int kLanes = 16;  // triangles set up together (one AVX-512 reg
 struct CandidateBatch {
   std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
   std::vector<uint32_t> tri;
+  std::vector<uint8_t> opaque;  // 1: opaque material
   int count = 0;
   int padded = 0;
-  /// Gathers the candidates of [begin, end) whose nearest depth zmin[t] is below `max_z` (the
-  /// deepest sample of the work item: a triangle entirely beyond it blocks none of them).
-  void gather(const TriangleSoup& soup, const CellPair* begin, const CellPair* end,
-              const float* zmin, float max_z);
+  /// Gathers the candidates of [begin, end) that may block one of the work item's samples
+  /// (gears_item_cull.hpp: depth cut and edge-angle slabs).
+  void gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
+              const ItemBounds& item);
+  /// The lanes of batch [first, first+16) whose triangle is opaque.
+  uint32_t opaque_lanes(int first) const {
+    uint32_t m = 0;
+    for (int l = 0; l < kLanes; ++l) m |= static_cast<uint32_t>(opaque[first + l]) << l;
+    return m;
+  }
 };
 
 /// One pixel's light, in light space: light point X(u, v) = p + w + u·eu + v·ev.
@@ -43,20 +51,34 @@ struct LineBatch {
   alignas(64) float a[4][kLanes];
   alignas(64) float b[4][kLanes];
   alignas(64) float c[4][kLanes];
+  // Row-span form (grid_k > 0 in setup_batch), computed 16 lanes at once: line m at sample
+  // (i, j) is al[m] + b[m]·i + c[m]·j ≥ 0, i.e. i ≥ t (b > 0) or i ≤ t (b < 0) with
+  // t = (al[m] + c[m]·j)·inv[m]. Adding lo_off (0 where b > 0, −∞ elsewhere) or hi_off (0 where
+  // b < 0, +∞ elsewhere) to t makes each line a lower or an upper bound without a branch.
+  alignas(64) float al[4][kLanes];
+  alignas(64) float inv[4][kLanes];  // −1/b[m], 0 where b[m] = 0
+  alignas(64) float lo_off[4][kLanes];
+  alignas(64) float hi_off[4][kLanes];
 };
 
 /// Batched setup of candidates [first, first+16) (SIMD across triangles: the per-triangle setup
 /// dominates a scalar rasterizer). Returns the lanes whose lines can all be non-negative inside the
 /// sample bounding box [uv_lo, uv_hi] — the exact "P is in the triangle's shadow volume" test for
-/// that box; the others are rejected without rasterization.
+/// that box; the others are rejected without rasterization. grid_k > 0: the samples are the
+/// regular grid_k × grid_k cell centres; the row-span form is filled in, and a triangle whose
+/// shadow's bounding box holds no sample centre is rejected too.
 uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
-                     Vec2 uv_hi, LineBatch& out);
+                     Vec2 uv_hi, int grid_k, LineBatch& out);
 
-/// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32): row j's covered
-/// samples form one interval, one machine word per row. Writes the triangle's coverage to
-/// rows[0..k) (and zeros up to the next multiple of 16: size rows for that); returns the OR of all
-/// rows (0: no sample covered).
+/// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32; `lines` set up with
+/// grid_k = k): row j's covered samples form one interval, one machine word per row. Writes the
+/// triangle's coverage to rows[0..k) (and zeros up to the next multiple of 16: size rows for that);
+/// returns the set of non-empty rows (0: no sample covered).
 uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows);
+
+/// raster_rows for several opaque triangles (bit l of `lanes`: lane l), OR-ed into rows[0..k)
+/// (size as for raster_rows) without a branch on coverage; returns the lanes that cover a sample.
+uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows);
 
 /// Per-sample rasterization (any sample positions: irregular patterns, point lights, k > 32):
 /// coverage bit s of words[] for sample (u[s], v[s]). Returns true when some sample is covered.
