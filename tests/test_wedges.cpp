@@ -210,6 +210,56 @@ TEST(Wedges, CameraInsideAWedge) {
   EXPECT_GT(d.penumbra, 100);
 }
 
+/// One planar convex occluder: one group, whose SV-buffer is the exact per-part occlusion, so
+/// blending (Forest §3.2) and the overlap approximation (paper IV §5.1) change nothing.
+TEST(WedgeBlend, QuadMatchesExactAndWedges) {
+  const auto t = make_test_frame("quad", 64, 64, one_sample());
+  const Diff d = compare(t, "wedge_blend");
+  const Diff dw = compare(t, "wedge_blend", {}, "wedges");
+  const Diff dov = compare(t, "wedges", {{"overlap", "true"}});
+  print("quad, wedge_blend", d);
+  print("quad, wedge_blend vs wedges", dw);
+  print("quad, overlap", dov);
+  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+  EXPECT_LE(dw.max_abs, 1.0 / 255.0);
+  EXPECT_LE(dov.max_abs, 1.0 / 255.0);
+  EXPECT_GT(d.penumbra, 200);
+}
+
+TEST(WedgeBlend, TiltedTriangleMatchesExact) {
+  const auto t = make_test_frame(tilted_triangle_scene(), 48, 48, one_sample());
+  const Diff d = compare(t, "wedge_blend");
+  print("tilted triangle, wedge_blend", d);
+  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+  EXPECT_GT(d.penumbra, 100);
+}
+
+TEST(WedgeBlend, DiskLightOnQuadMatchesExact) {
+  Scene s = make_builtin_scene("quad");
+  Light& l = s.lights[0];
+  l.shape = LightShape::disk;
+  l.radius = 0.5f * glm::length(l.edge_u);
+  l.normal = Vec3(0, -1, 0);
+  const auto t = make_test_frame(std::move(s), 48, 48, one_sample());
+  const Diff d = compare(t, "wedge_blend");
+  print("quad, disk light, wedge_blend", d);
+  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+}
+
+/// Point light: no wedges; blending the groups' hard counts gives the hard shadow.
+TEST(WedgeBlend, PointLightEqualsShadowVolume) {
+  Scene s = make_builtin_scene("spheres");
+  s.lights[0].shape = LightShape::point;
+  const auto t = make_test_frame(std::move(s), 48, 48, one_sample());
+  const Diff d = compare(t, "wedge_blend", {}, "shadow_volume");
+  const Diff dov = compare(t, "wedges", {{"overlap", "true"}}, "shadow_volume");
+  print("spheres, point light, wedge_blend", d);
+  print("spheres, point light, overlap", dov);
+  EXPECT_EQ(d.max_abs, 0.0);
+  EXPECT_EQ(dov.max_abs, 0.0);
+  EXPECT_GT(d.shadowed, 50);
+}
+
 /// Light splitting changes nothing where the method is already exact.
 TEST(Wedges, SplitLightStaysExactOnQuad) {
   const auto t = make_test_frame("quad", 48, 48, one_sample());
@@ -218,18 +268,26 @@ TEST(Wedges, SplitLightStaysExactOnQuad) {
   EXPECT_LE(d.max_abs, 1.0 / 255.0);
 }
 
-/// Measured, not bounded (docs/methods/wedges.md): overlapping spheres, where the summed coverage
-/// over-darkens, and the split light that reduces it (paper IV §5.2, figs. 8–9).
+/// Measured (docs/methods/wedges.md): overlapping spheres, where the summed coverage over-darkens,
+/// and the papers' remedies: light splitting (paper IV §5.2, figs. 8–9), the overlap
+/// approximation (paper IV §5.1, eq. 1) and penumbra-wedge blending (Forest §3.2, fig. 3.5).
+/// The papers claim splitting and blending each reduce the error of plain wedges there.
 TEST(Wedges, MeasuredErrorOnSpheres) {
   const auto t = make_test_frame("spheres", 96, 96, one_sample());
   const Diff d1 = compare(t, "wedges");
+  const Diff dov = compare(t, "wedges", {{"overlap", "true"}});
   const Diff d2 = compare(t, "wedges", {{"split", "2"}});
   const Diff d4 = compare(t, "wedges", {{"split", "4"}});
+  const Diff db = compare(t, "wedge_blend");
   print("spheres", d1);
+  print("spheres, overlap", dov);
   print("spheres, split 2", d2);
   print("spheres, split 4", d4);
+  print("spheres, wedge_blend", db);
   EXPECT_GT(d1.shadowed, 500);
-  EXPECT_LT(d4.mean_abs_shadowed, d1.mean_abs_shadowed);
+  EXPECT_LT(d2.mean_abs_shadowed, d1.mean_abs_shadowed);
+  EXPECT_LT(d4.mean_abs_shadowed, d2.mean_abs_shadowed);
+  EXPECT_LT(db.mean_abs_shadowed, d1.mean_abs_shadowed);
 }
 
 TEST(Wedges, MeasuredErrorOnBunny) {
@@ -237,8 +295,12 @@ TEST(Wedges, MeasuredErrorOnBunny) {
   const auto t = make_test_frame("bunny", 96, 96, one_sample());
   const Diff d1 = compare(t, "wedges");
   const Diff d2 = compare(t, "wedges", {{"split", "2"}});
+  const Diff dov = compare(t, "wedges", {{"overlap", "true"}});
+  const Diff db = compare(t, "wedge_blend");
   print("bunny", d1);
   print("bunny, split 2", d2);
+  print("bunny, overlap", dov);
+  print("bunny, wedge_blend", db);
   EXPECT_GT(d1.shadowed, 100);
 }
 

@@ -112,7 +112,9 @@ const MethodRegistry& MethodRegistry::builtin() {
     register_shadow_map(r);
     register_pcss(r);
     register_wedges(r);
+    register_wedge_blend(r);
     register_ssm(r);
+    register_silhouette_map(r);
     return r;
   }();
   return registry;

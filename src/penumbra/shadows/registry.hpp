@@ -78,6 +78,8 @@ void register_shadow_volume(MethodRegistry& registry);
 void register_shadow_map(MethodRegistry& registry);
 void register_pcss(MethodRegistry& registry);
 void register_wedges(MethodRegistry& registry);
+void register_wedge_blend(MethodRegistry& registry);
 void register_ssm(MethodRegistry& registry);
+void register_silhouette_map(MethodRegistry& registry);
 
 }  // namespace penumbra

@@ -138,15 +138,13 @@ void register_shadow_map(MethodRegistry& registry) {
       "hard shadows from a light-centre depth map, constant + slope-scaled bias, k×k PCF";
   info.reference = "[Forest thesis §2.2.2; Valient & Bujnak §1; Reeves et al. 1987]";
   info.options = depth_map_option_specs();
-  info.options.insert(info.options.end(), {
-                                              {"pcf",
-                                               OptionType::integer,
-                                               "1",
-                                               "PCF kernel: k×k texel taps (1 = plain shadow map)",
-                                               {},
-                                               1,
-                                               31},
-                                          });
+  info.options.push_back({"pcf",
+                          OptionType::integer,
+                          "1",
+                          "PCF kernel: k×k texel taps (1 = plain shadow map)",
+                          {},
+                          1,
+                          31});
   info.create = [](const MethodOptions& o) { return std::make_unique<ShadowMap>(o); };
   registry.add(std::move(info));
 }

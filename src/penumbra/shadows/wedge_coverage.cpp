@@ -63,15 +63,19 @@ bool clip_edge_to_light_disk(DVec2& a, DVec2& b) {
   return true;
 }
 
-double square_sector_minus_triangle(const DVec2& a, const DVec2& b) {
+int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b,
+                       DVec2 poly[8]) {
   const DVec2 c(0.5);
   const DVec2 da = a - c, db = b - c;
-  const double tri2 = cross2(da, db);  // twice the signed triangle area
-  if (tri2 == 0.0) return 0.0;
+  const double tri2 = cross2(da, db);
+  if (tri2 == 0.0) return 0;
   // The sector is the intersection of two half-planes through c (its angle is below π): clip the
-  // square against them, oriented so the sector lies on the left of c→a and the right of c→b.
+  // box against them, oriented so the sector lies on the left of c→a and the right of c→b.
   const double s = tri2 > 0.0 ? 1.0 : -1.0;
-  DVec2 poly[8] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  poly[0] = lo;
+  poly[1] = DVec2(hi.x, lo.y);
+  poly[2] = hi;
+  poly[3] = DVec2(lo.x, hi.y);
   int n = 4;
   DVec2 tmp[8];
   const DVec2 dirs[2] = {da, db};
@@ -86,8 +90,19 @@ double square_sector_minus_triangle(const DVec2& a, const DVec2& b) {
     }
     n = m;
     for (int i = 0; i < n; ++i) poly[i] = tmp[i];
-    if (n < 3) return 0.0;
+    if (n < 3) return n;
   }
+  return n;
+}
+
+double square_sector_minus_triangle(const DVec2& a, const DVec2& b) {
+  const DVec2 c(0.5);
+  const double tri2 = cross2(a - c, b - c);  // twice the signed triangle area
+  if (tri2 == 0.0) return 0.0;
+  DVec2 poly[8];
+  const int n = clip_box_to_sector(DVec2(0.0), DVec2(1.0), a, b, poly);
+  if (n < 3) return 0.0;
+  const double s = tri2 > 0.0 ? 1.0 : -1.0;
   double area2 = 0.0;
   for (int i = 0; i < n; ++i) area2 += cross2(poly[i], poly[(i + 1) % n]);
   // area2 > 0 (the square is counter-clockwise); the result carries the sector's orientation.

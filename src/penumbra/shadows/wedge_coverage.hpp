@@ -27,6 +27,13 @@ bool clip_edge_to_light_square(const DVec3& A, const DVec3& B, DVec2& a, DVec2& 
 /// radius 0.5). False if nothing remains.
 bool clip_edge_to_light_disk(DVec2& a, DVec2& b);
 
+/// The box [lo, hi] (containing or touching c = (0.5, 0.5)) clipped to the sector from c spanned
+/// by a and b (angle below π): writes the polygon (at most 8 vertices, counter-clockwise) to
+/// `poly` and returns its vertex count (< 3: empty). 0 when c, a, b are collinear. Shared by
+/// square_sector_minus_triangle and wedge_blend's per-part rectangles [Forest §3.2.1].
+int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b,
+                       DVec2 poly[8]);
+
 /// Signed area, in uv units, of the region of the uv square between the segment a→b (inside the
 /// square) and the square's boundary, inside the sector from c = (0.5, 0.5) spanned by a and b:
 /// area(square ∩ sector) − area(c, a, b) [paper IV §4.2.2]. Positive when (c, a, b) turns

@@ -17,7 +17,9 @@
 // occluder (paper III §5.3: the silhouette seen from every light point is the one seen from the
 // centre and nothing overlaps); elsewhere the single-silhouette approximation (the silhouette
 // from the light centre stands for all light points) and the overlap error (coverages of
-// different edges are summed, not unioned) remain, reduced by splitting the light (paper IV §5.2).
+// different edges are summed, not unioned) remain, reduced by splitting the light (paper IV §5.2)
+// and, for the overlap error between separate casters, by the overlap approximation (paper IV
+// §5.1, option `overlap`) or by penumbra-wedge blending (Forest §3.2, wedge_blend.hpp).
 #pragma once
 
 #include <cstdint>
@@ -28,6 +30,10 @@ namespace penumbra {
 
 struct WedgeOptions {
   int split = 1;  // split a rectangular light into split × split sub-lights (paper IV §5.2)
+  /// Overlap approximation [paper IV §5.1, eq. 1]: each group's coverage (hard count + its
+  /// wedges, clamped) is computed apart and combined as max + ½ min. Groups are connected
+  /// components of the casters (one per silhouette loop for convex-ish parts; wedge_pass.hpp).
+  bool overlap = false;
 };
 
 struct WedgeStats {

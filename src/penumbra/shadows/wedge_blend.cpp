@@ -1,0 +1,299 @@
+#include "penumbra/shadows/wedge_blend.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "penumbra/shadows/registry.hpp"
+#include "penumbra/shadows/shadow_volume.hpp"
+#include "penumbra/shadows/wedge_coverage.hpp"
+#include "penumbra/shadows/wedge_pass.hpp"
+
+namespace penumbra {
+
+namespace {
+
+using namespace wedge_pass;
+
+constexpr int kParts = 4;  // Forest §3.2.1, §3.3.3: four light parts split at the centre
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+double cross2(const DVec2& a, const DVec2& b) {
+  return a.x * b.y - a.y * b.x;
+}
+
+/// A rectangle in part-local coordinates: s = |u − ½|, t = |v − ½| ∈ [0, ½] (the light centre at
+/// the origin; every part treated "by symmetry" as the upper-right one, Forest §3.3.3).
+struct Rect {
+  double s0 = kInfinity, t0 = kInfinity, s1 = -kInfinity, t1 = -kInfinity;
+  bool empty() const { return !(s1 > s0 && t1 > t0); }
+  double area() const { return empty() ? 0.0 : (s1 - s0) * (t1 - t0); }
+  void add(double s, double t) {
+    s0 = std::min(s0, s);
+    s1 = std::max(s1, s);
+    t0 = std::min(t0, t);
+    t1 = std::max(t1, t);
+  }
+  void add(const Rect& r) {
+    if (r.empty()) return;
+    add(r.s0, r.t0);
+    add(r.s1, r.t1);
+  }
+  static Rect full() { return Rect{0.0, 0.0, 0.5, 0.5}; }
+  static Rect intersection(const Rect& a, const Rect& b) {
+    return Rect{std::max(a.s0, b.s0), std::max(a.t0, b.t0), std::min(a.s1, b.s1),
+                std::min(a.t1, b.t1)};
+  }
+};
+
+/// One light part of a V-buffer pixel [Forest Algorithm 6]: occluded fraction and rectangle.
+struct VPart {
+  double occ = 0.0;
+  Rect rect;
+};
+
+/// One light part of an SV-buffer pixel [Forest §3.3.3: occ, brect, outer-edge maxima], plus
+/// what the inner edges need to shrink the rectangle (their maxima and the angle they span).
+struct SvPart {
+  double occ = 0.0;
+  Rect rect;
+  double outer_s = 0.0, outer_t = 0.0;
+  double inner_s = 0.0, inner_t = 0.0, inner_angle = 0.0;
+};
+
+/// uv box of part q: bit 0 the u half, bit 1 the v half.
+DVec2 part_lo(int q) {
+  return DVec2(q & 1 ? 0.5 : 0.0, q & 2 ? 0.5 : 0.0);
+}
+
+/// Liang–Barsky clip of the uv segment a→b to part q's box; false if nothing (or a point) remains.
+bool clip_to_part(int q, DVec2& a, DVec2& b) {
+  const DVec2 lo = part_lo(q), hi = lo + DVec2(0.5);
+  double t0 = 0.0, t1 = 1.0;
+  const DVec2 d = b - a;
+  const double p[4] = {-d.x, d.x, -d.y, d.y};
+  const double r[4] = {a.x - lo.x, hi.x - a.x, a.y - lo.y, hi.y - a.y};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0.0) {
+      if (r[k] < 0.0) return false;
+      continue;
+    }
+    const double t = r[k] / p[k];
+    if (p[k] < 0.0)
+      t0 = std::max(t0, t);
+    else
+      t1 = std::min(t1, t);
+  }
+  if (!(t0 < t1)) return false;
+  const DVec2 na = a + t0 * d, nb = a + t1 * d;
+  a = na;
+  b = nb;
+  return true;
+}
+
+/// Bounding rectangle (part-local) of the region of part q between the segment a→b and the
+/// part's boundary inside the sector from the centre spanned by a and b [Forest fig. 3.6]: the
+/// part box clipped by the sector's two half-planes, without the centre, plus a and b. For round
+/// lights this bounds the square part's region, a superset of the disk part's.
+Rect region_rect(int q, const DVec2& a, const DVec2& b) {
+  const DVec2 c(0.5);
+  Rect r;
+  auto add_uv = [&](const DVec2& p) { r.add(std::abs(p.x - 0.5), std::abs(p.y - 0.5)); };
+  add_uv(a);
+  add_uv(b);
+  DVec2 poly[8];
+  const DVec2 lo = part_lo(q);
+  const int n = clip_box_to_sector(lo, lo + DVec2(0.5), a, b, poly);
+  for (int i = 0; i < n && n >= 3; ++i)
+    if (glm::dot(poly[i] - c, poly[i] - c) > 1e-24) add_uv(poly[i]);
+  return r;
+}
+
+/// Algorithm 6 for one part: blends the SV part into the V part with the effective overlapped
+/// area heuristic (eq. 3.1). `part_area` is the part's area in uv units.
+void blend_part(const SvPart& s, VPart& v, double part_area, WedgeBlendStats& st) {
+  if (!(s.occ > 0.0)) return;
+  if (!(v.occ > 0.0)) {
+    v.occ = s.occ;
+    v.rect = s.rect;
+    return;
+  }
+  ++st.blends;
+  double blended = s.occ + v.occ;  // line 7
+  const Rect inter = Rect::intersection(s.rect, v.rect);
+  const double beta = inter.area();
+  if (beta > 0.0) {  // lines 8–11
+    ++st.overlaps;
+    const double bs = s.rect.area(), bv = v.rect.area();
+    const double ratio_s = std::min(1.0, s.occ * part_area / bs),
+                 ratio_v = std::min(1.0, v.occ * part_area / bv);
+    const double eps = ratio_v * ratio_s * beta;  // eq. 3.1, an area in uv units
+    blended -= eps / part_area;
+  }
+  v.occ = std::clamp(blended, 0.0, 1.0);  // line 13
+  v.rect.add(s.rect);                     // line 14: merge_brect
+}
+
+}  // namespace
+
+Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out) {
+  WedgeBlendStats st;
+  WedgeStats& ws = st.wedges;
+  const GBuffer& g = ctx.gbuffer;
+  const Light& light = ctx.light;
+  const PixelSetup setup = pixel_setup(ctx);
+  const Vec3 centre = hard_shadow_point(light);
+
+  // Silhouette loops from the light centre, grouped per connected component (Algorithm 4
+  // line 1, wedge_pass.hpp).
+  auto start = std::chrono::steady_clock::now();
+  const Casters casters = make_casters(ctx.scene, true);
+  const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
+  st.groups = casters.meshes.size();
+  ws.silhouette_edges = sil.size();
+  ws.sub_lights = 1;
+  ws.silhouettes_ms = ms_since(start);
+
+  // Algorithm 4 line 4: each group's hard shadow from its own shadow volume.
+  start = std::chrono::steady_clock::now();
+  const GroupCounts gcount = group_counts(ctx, casters, centre);
+  ws.pass1_ms = ms_since(start);
+
+  const std::vector<DVec3> hull = light_hull_points(light);
+  start = std::chrono::steady_clock::now();
+  BinnedWedges bw;
+  if (!hull.empty() && !sil.empty() && setup.any_active)
+    bw = build_and_bin(ctx, setup, sil, hull, centre);
+  else  // point light: no wedges, the hard counts alone (one empty tile grid)
+    bw = build_and_bin(ctx, setup, {}, hull, centre);
+  ws.wedges = bw.wedges.size();
+  ws.wedges_ms = ms_since(start);
+
+  // Algorithm 4 lines 2–7 per pixel: SV-buffer of each group (Algorithm 5), blended into the
+  // V-buffer (Algorithm 6). Everything is per pixel, so the buffers are per-pixel locals.
+  start = std::chrono::steady_clock::now();
+  PassCounters pc;
+  std::vector<WedgeBlendStats> row_stats(bw.tiles_y);
+  const bool round = light.shape == LightShape::disk || light.shape == LightShape::sphere;
+  const double part_area = (round ? kPi * 0.25 : 1.0) / kParts;
+  Image<float> vis = run_pass2(
+      ctx, light, bw, pc,
+      [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, PassCounters& c) {
+        WedgeBlendStats& rs = row_stats[(i / g.width) / kTile];
+        std::array<VPart, kParts> vbuf{};
+        for_each_group(
+            gcount, i, pl, bin, &bw, c,
+            [&](uint32_t, double count, const std::vector<CoveredEdge>& edges) {
+              // SV-buffer initialised by the group's hard count (Algorithm 4 line 4).
+              std::array<SvPart, kParts> sv{};
+              for (SvPart& p : sv) {
+                p.occ = count;
+                if (count > 0.0) p.rect = Rect::full();
+              }
+              // Algorithm 5, outer half-wedges first (§3.3.3), then inner ones.
+              for (int pass = 0; pass < 2 && pl; ++pass) {
+                for (const CoveredEdge& e : edges) {
+                  const Wedge& w = bw.wedges[e.wedge];
+                  const bool outer = pl->occlusion(w, e.area) > 0.0;
+                  if (outer != (pass == 0)) continue;
+                  for (int q = 0; q < kParts; ++q) {
+                    DVec2 a = e.a, b = e.b;
+                    if (!clip_to_part(q, a, b)) continue;  // line 7
+                    const double area = pl->area(a, b);
+                    if (area == 0.0) continue;
+                    SvPart& p = sv[q];
+                    p.occ += kParts * pl->occlusion(w, area);  // lines 8, 11, 14
+                    const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
+                                 bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
+                    if (outer) {  // line 12: increase_brect; outer-edge maxima
+                      p.rect.add(region_rect(q, a, b));
+                      p.outer_s = std::max({p.outer_s, as, bs});
+                      p.outer_t = std::max({p.outer_t, at, bt});
+                    } else {  // line 15: decrease_brect (below)
+                      p.inner_s = std::max({p.inner_s, as, bs});
+                      p.inner_t = std::max({p.inner_t, at, bt});
+                      const DVec2 da = a - DVec2(0.5), db = b - DVec2(0.5);
+                      p.inner_angle += std::abs(std::atan2(cross2(da, db), glm::dot(da, db)));
+                    }
+                  }
+                }
+              }
+              for (int q = 0; q < kParts; ++q) {
+                SvPart& p = sv[q];
+                // decrease_brect: inner edges spanning the whole part (90° seen from the centre)
+                // close the occluded region off on the centre's side; it reaches no farther than
+                // they do, nor than the occluding outer edges (the maxima of §3.3.3).
+                if (p.inner_angle >= 0.5 * kPi * (1.0 - 1e-9) && !p.rect.empty()) {
+                  p.rect.s1 =
+                      std::max(p.rect.s0, std::min(p.rect.s1, std::max(p.inner_s, p.outer_s)));
+                  p.rect.t1 =
+                      std::max(p.rect.t0, std::min(p.rect.t1, std::max(p.inner_t, p.outer_t)));
+                }
+                p.occ = std::clamp(p.occ, 0.0, 1.0);
+                blend_part(p, vbuf[q], part_area, rs);  // Algorithm 4 line 7
+              }
+            });
+        double occ = 0.0;
+        for (const VPart& p : vbuf) occ += p.occ;
+        return static_cast<float>(1.0 - std::clamp(occ / kParts, 0.0, 1.0));
+      });
+  for (const WedgeBlendStats& r : row_stats) {
+    st.blends += r.blends;
+    st.overlaps += r.overlaps;
+  }
+  ws.pixel_tests = pc.tests;
+  ws.pixels_inside = pc.inside;
+  ws.pixels_covered = pc.covered;
+  ws.plane_fallbacks = pc.fallbacks;
+  ws.pass2_ms = ms_since(start);
+  if (stats_out) *stats_out = st;
+  return vis;
+}
+
+namespace {
+
+class WedgeBlend final : public ShadowMethod {
+ public:
+  Visibility compute(const ShadowContext& ctx) override {
+    WedgeBlendStats st;
+    Visibility v;
+    v.lit = wedge_blend_visibility(ctx, &st);
+    const WedgeStats& w = st.wedges;
+    v.times.add("silhouettes", w.silhouettes_ms);
+    v.times.add("pass1", w.pass1_ms);
+    v.times.add("wedges", w.wedges_ms);
+    v.times.add("pass2_blend", w.pass2_ms);
+    v.counters["silhouette_edges"] = static_cast<double>(w.silhouette_edges);
+    v.counters["wedges"] = static_cast<double>(w.wedges);
+    v.counters["groups"] = static_cast<double>(st.groups);
+    v.counters["pixel_tests"] = static_cast<double>(w.pixel_tests);
+    v.counters["pixels_inside_wedges"] = static_cast<double>(w.pixels_inside);
+    v.counters["pixels_covered"] = static_cast<double>(w.pixels_covered);
+    v.counters["light_plane_fallbacks"] = static_cast<double>(w.plane_fallbacks);
+    v.counters["part_blends"] = static_cast<double>(st.blends);
+    v.counters["part_overlaps"] = static_cast<double>(st.overlaps);
+    return v;
+  }
+};
+
+}  // namespace
+
+void register_wedge_blend(MethodRegistry& registry) {
+  MethodInfo info;
+  info.name = "wedge_blend";
+  info.summary =
+      "penumbra-wedge blending: per caster group an SV-buffer of four light parts (occlusion, "
+      "bounding rectangle), blended with the effective overlapped area heuristic";
+  info.reference = "[seed 003 Forest thesis §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
+  info.sample_exact = false;
+  info.create = [](const MethodOptions&) { return std::make_unique<WedgeBlend>(); };
+  registry.add(std::move(info));
+}
+
+}  // namespace penumbra

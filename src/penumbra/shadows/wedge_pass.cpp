@@ -1,0 +1,270 @@
+#include "penumbra/shadows/wedge_pass.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/silhouettes.hpp"
+#include "penumbra/shadows/shadow_volume.hpp"
+
+namespace penumbra::wedge_pass {
+
+std::vector<DVec3> light_hull_points(const Light& light) {
+  std::vector<DVec3> pts;
+  if (light.shape == LightShape::point) return pts;
+  if (light.shape == LightShape::sphere) {
+    const double r = light.radius;
+    for (int k = 0; k < 8; ++k)
+      pts.push_back(DVec3(light.center) +
+                    r * DVec3(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0));
+    return pts;
+  }
+  const LightFrame f = light_frame(light, light.center);  // constant for rect and disk
+  for (int k = 0; k < 4; ++k)
+    pts.push_back(DVec3(f.corner) + (k & 1 ? 1.0 : 0.0) * DVec3(f.edge_u) +
+                  (k & 2 ? 1.0 : 0.0) * DVec3(f.edge_v));
+  return pts;
+}
+
+PixelSetup pixel_setup(const ShadowContext& ctx) {
+  const GBuffer& g = ctx.gbuffer;
+  Camera cam = ctx.scene.camera;
+  cam.width = g.width;
+  cam.height = g.height;
+  PixelSetup s;
+  s.screen.proj = camera_projection(cam);
+  std::vector<double> row_margin(g.height, 0.0), row_near(g.height, kInfinity),
+      row_far(g.height, 0.0);
+  std::vector<uint8_t> row_any(g.height, 0);
+  parallel_rows(g.height, [&](int y) {
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * g.width + x;
+      if (ctx.receivers[i] != kActive) continue;
+      const DVec4 c = s.screen.proj.to_clip(DVec4(DVec3(g.shadow_origin(i)), 1.0));
+      if (!(c.w > 0.0)) continue;
+      const DVec3 p = s.screen.proj.to_screen(c);
+      row_margin[y] =
+          std::max({row_margin[y], std::abs(p.x - (x + 0.5)), std::abs(p.y - (y + 0.5))});
+      row_near[y] = std::min(row_near[y], c.w);
+      row_far[y] = std::max(row_far[y], c.w);
+      row_any[y] = 1;
+    }
+  });
+  s.any_active = std::find(row_any.begin(), row_any.end(), 1) != row_any.end();
+  if (!s.any_active) return s;
+  s.margin = std::ceil(*std::max_element(row_margin.begin(), row_margin.end())) + 1.0;
+  s.screen.near_depth = 0.5 * *std::min_element(row_near.begin(), row_near.end());
+  s.screen.far_depth = 2.0 * *std::max_element(row_far.begin(), row_far.end());
+  return s;
+}
+
+namespace {
+
+uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+/// Connected components of a mesh's valid faces (sharing a welded vertex), as sub-meshes with
+/// the same positions; empty if there is only one.
+std::vector<std::unique_ptr<Mesh>> split_components(const Mesh& mesh, const MeshEdges& edges) {
+  std::vector<uint32_t> parent(mesh.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (size_t f = 0; f < edges.faces.size(); ++f) {
+    if (!edges.face_valid(f)) continue;
+    const uint32_t r0 = find_root(parent, edges.faces[f][0]);
+    for (int c = 1; c < 3; ++c) {
+      const uint32_t r = find_root(parent, edges.faces[f][c]);
+      if (r != r0) parent[r] = r0;
+    }
+  }
+  std::vector<int32_t> comp_of_root(parent.size(), -1);
+  std::vector<std::unique_ptr<Mesh>> out;
+  for (size_t f = 0; f < edges.faces.size(); ++f) {
+    if (!edges.face_valid(f)) continue;
+    const uint32_t r = find_root(parent, edges.faces[f][0]);
+    if (comp_of_root[r] < 0) {
+      comp_of_root[r] = static_cast<int32_t>(out.size());
+      auto m = std::make_unique<Mesh>();
+      m->name = mesh.name;
+      m->positions = mesh.positions;
+      m->material = mesh.material;
+      out.push_back(std::move(m));
+    }
+    out[comp_of_root[r]]->triangles.push_back(mesh.triangles[f]);
+  }
+  if (out.size() <= 1) out.clear();
+  return out;
+}
+
+}  // namespace
+
+Casters make_casters(const Scene& scene, bool by_component) {
+  Casters c;
+  for (const Mesh& mesh : scene.meshes) {
+    if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
+    MeshEdges edges = build_mesh_edges(mesh);
+    std::vector<std::unique_ptr<Mesh>> parts;
+    if (by_component) parts = split_components(mesh, edges);
+    if (parts.empty()) {
+      c.layers.push_back(mesh_layers(edges));
+      c.meshes.push_back(&mesh);
+      c.edges.push_back(std::move(edges));
+      continue;
+    }
+    for (auto& part : parts) {
+      MeshEdges e = build_mesh_edges(*part);
+      c.layers.push_back(mesh_layers(e));
+      c.meshes.push_back(part.get());
+      c.edges.push_back(std::move(e));
+      c.owned.push_back(std::move(part));
+    }
+  }
+  return c;
+}
+
+std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& centre) {
+  std::vector<WedgeEdge> sil;
+  for (size_t m = 0; m < casters.meshes.size(); ++m) {
+    const Mesh& mesh = *casters.meshes[m];
+    for (const SilhouetteEdge& s : point_silhouette(mesh, casters.edges[m], centre))
+      sil.push_back({DVec3(mesh.positions[s.from]), DVec3(mesh.positions[s.to]),
+                     static_cast<double>(s.multiplicity) / casters.layers[m],
+                     static_cast<uint32_t>(m)});
+  }
+  return sil;
+}
+
+namespace {
+
+Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+                         const Vec3& point) {
+  Scene part;
+  part.camera = ctx.scene.camera;
+  for (const Mesh* m : meshes) {
+    part.meshes.push_back(*m);
+    part.meshes.back().casts_shadows = true;
+  }
+  return shadow_volume_counts(part, part.camera, ctx.gbuffer, ctx.receivers, point);
+}
+
+}  // namespace
+
+Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point) {
+  const GBuffer& g = ctx.gbuffer;
+  Image<float> out(g.width, g.height, 0.0f);
+  for (int l : {1, 2}) {
+    bool any = false, all = true;
+    for (int layers : casters.layers) {
+      any |= layers == l;
+      all &= layers == l;
+    }
+    if (!any) continue;
+    Image<int32_t> counts;
+    if (all && casters.owned.empty()) {
+      counts = shadow_volume_counts(ctx.scene, ctx.scene.camera, g, ctx.receivers, point);
+    } else {
+      std::vector<const Mesh*> part;
+      for (size_t m = 0; m < casters.meshes.size(); ++m)
+        if (casters.layers[m] == l) part.push_back(casters.meshes[m]);
+      counts = counts_of(ctx, part, point);
+    }
+    for (size_t i = 0; i < counts.size(); ++i)
+      out[i] += static_cast<float>(counts[i]) / static_cast<float>(l);
+  }
+  return out;
+}
+
+GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point) {
+  const size_t n = ctx.gbuffer.pixel_count();
+  std::vector<std::vector<std::pair<uint32_t, float>>> per_group(casters.meshes.size());
+  std::vector<uint32_t> per_pixel(n + 1, 0);
+  for (size_t m = 0; m < casters.meshes.size(); ++m) {
+    const Image<int32_t> counts = counts_of(ctx, {casters.meshes[m]}, point);
+    for (size_t i = 0; i < n; ++i) {
+      if (counts[i] == 0) continue;
+      per_group[m].emplace_back(static_cast<uint32_t>(i),
+                                static_cast<float>(counts[i]) / casters.layers[m]);
+      ++per_pixel[i + 1];
+    }
+  }
+  GroupCounts gc;
+  gc.begin.assign(n + 1, 0);
+  for (size_t i = 0; i < n; ++i) gc.begin[i + 1] = gc.begin[i] + per_pixel[i + 1];
+  gc.group.resize(gc.begin[n]);
+  gc.value.resize(gc.begin[n]);
+  std::vector<uint32_t> fill(gc.begin.begin(), gc.begin.end() - 1);
+  for (size_t m = 0; m < per_group.size(); ++m) {  // group order: entries sorted by group
+    for (const auto& [i, v] : per_group[m]) {
+      gc.group[fill[i]] = static_cast<uint32_t>(m);
+      gc.value[fill[i]++] = v;
+    }
+  }
+  return gc;
+}
+
+BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
+                           const std::vector<WedgeEdge>& sil, const std::vector<DVec3>& hull,
+                           const Vec3& centre) {
+  const GBuffer& g = ctx.gbuffer;
+  const double scale = std::max(1.0, static_cast<double>(ctx.scene.bounds().diagonal()));
+  BinnedWedges bw;
+  bw.wedges.resize(sil.size());
+  bw.group.resize(sil.size());
+  std::vector<std::vector<DVec2>> hulls(sil.size());
+  std::vector<DVec2> yrange(sil.size());
+  parallel_chunks(sil.size(), 64, [&](size_t b, size_t e) {
+    for (size_t k = b; k < e; ++k) {
+      bw.wedges[k] = build_wedge(sil[k].from, sil[k].to, sil[k].weight, hull, DVec3(centre), scale);
+      bw.group[k] = sil[k].group;
+      hulls[k] = wedge_screen_hull(setup.screen, sil[k].from, sil[k].to, hull);
+      yrange[k] = DVec2(kInfinity, -kInfinity);
+      for (const DVec2& p : hulls[k])
+        yrange[k] = DVec2(std::min(yrange[k].x, p.y), std::max(yrange[k].y, p.y));
+    }
+  });
+
+  // Bin wedges to tiles, one tile row per task (deterministic order: wedge index).
+  bw.tiles_x = (g.width + kTile - 1) / kTile;
+  bw.tiles_y = (g.height + kTile - 1) / kTile;
+  bw.bins.assign(static_cast<size_t>(bw.tiles_x) * bw.tiles_y, {});
+  const double margin = setup.margin;
+  parallel_rows(bw.tiles_y, [&](int ty) {
+    const double y0 = ty * kTile + 0.5 - margin,
+                 y1 = std::min(g.height, (ty + 1) * kTile) - 0.5 + margin;
+    for (uint32_t k = 0; k < bw.wedges.size(); ++k) {
+      if (yrange[k].y < y0 || yrange[k].x > y1) continue;
+      double x0 = 0.0, x1 = 0.0;
+      if (!hull_row_span(hulls[k], y0, y1, x0, x1)) continue;
+      const double ta = std::floor((x0 - margin - 0.5) / kTile),
+                   tb = std::floor((x1 + margin - 0.5) / kTile);
+      if (tb < 0.0 || ta > bw.tiles_x - 1.0) continue;
+      const int a = static_cast<int>(std::max(0.0, ta)),
+                b = static_cast<int>(std::min(bw.tiles_x - 1.0, tb));
+      for (int tx = a; tx <= b; ++tx)
+        bw.bins[static_cast<size_t>(ty) * bw.tiles_x + tx].push_back(k);
+    }
+  });
+  return bw;
+}
+
+PixelLight::PixelLight(const Light& light, const LightFrame& fixed_frame, bool per_pixel_frame,
+                       const Vec3& origin)
+    : p_(origin) {
+  const LightFrame f = per_pixel_frame ? light_frame(light, origin) : fixed_frame;
+  if (!make_light_projection(p_, DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), lp_)) return;
+  valid_ = true;
+  round_ = f.round;
+  // τ: orientation of light uv as seen from p; with it the sign of (c, a, b) in uv tells the
+  // inner half (−) from the outer half (+) [wedge_coverage.hpp].
+  tau_ = glm::dot(lp_.to_w, glm::cross(DVec3(f.edge_u), DVec3(f.edge_v))) > 0.0 ? 1.0 : -1.0;
+  inv_area_ = 1.0 / f.uv_area();
+}
+
+bool PixelLight::clip(const Wedge& w, DVec2& a, DVec2& b) const {
+  if (!clip_edge_to_light_square(lp_.homogeneous(w.e0), lp_.homogeneous(w.e1), a, b)) return false;
+  return !round_ || clip_edge_to_light_disk(a, b);
+}
+
+}  // namespace penumbra::wedge_pass
