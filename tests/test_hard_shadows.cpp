@@ -16,16 +16,9 @@
 namespace penumbra {
 namespace {
 
+using test::centre_sample;
 using test::make_test_frame;
 using test::TestFrame;
-
-/// One sample at the light centre: raytrace's hard shadow.
-LightSampleSpec centre_sample() {
-  LightSampleSpec s;
-  s.pattern = SamplePattern::grid;
-  s.k = 1;
-  return s;
-}
 
 struct Agreement {
   int active = 0, differ = 0, shadowed = 0;

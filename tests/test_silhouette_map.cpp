@@ -16,15 +16,9 @@
 namespace penumbra {
 namespace {
 
+using test::centre_sample;
 using test::make_test_frame;
 using test::TestFrame;
-
-LightSampleSpec centre_sample() {
-  LightSampleSpec s;
-  s.pattern = SamplePattern::grid;
-  s.k = 1;
-  return s;
-}
 
 LightSampleSpec pcss_samples() {
   LightSampleSpec s;

@@ -25,6 +25,14 @@ struct TestFrame {
   }
 };
 
+/// One grid sample at the light centre: raytrace's hard shadow, the point the hard methods use.
+inline LightSampleSpec centre_sample() {
+  LightSampleSpec s;
+  s.pattern = SamplePattern::grid;
+  s.k = 1;
+  return s;
+}
+
 inline TestFrame make_test_frame(Scene scene, int width, int height, const LightSampleSpec& spec) {
   TestFrame t;
   scene.camera.width = width;

@@ -50,8 +50,7 @@ class Pcss final : public ShadowMethod {
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     auto start = std::chrono::steady_clock::now();
-    const DepthMap map =
-        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), map_.resolution, map_.faces);
+    const DepthMap map = map_.render_from_light_centre(ctx);
     vis.times.add("depth_map", elapsed_ms(start));
     start = std::chrono::steady_clock::now();
     const double w_light = light_size_ > 0.0 ? light_size_ : light_width(ctx.light);

@@ -43,6 +43,10 @@ DepthMapSettings DepthMapSettings::from(const MethodOptions& o) {
           o.get_real("slope_bias")};
 }
 
+DepthMap DepthMapSettings::render_from_light_centre(const ShadowContext& ctx) const {
+  return receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), resolution, faces);
+}
+
 DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_point,
                                    int resolution, FaceSelect faces) {
   std::vector<Vec3> cover;
@@ -99,8 +103,7 @@ class ShadowMap final : public ShadowMethod {
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     auto start = std::chrono::steady_clock::now();
-    const DepthMap map =
-        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), map_.resolution, map_.faces);
+    const DepthMap map = map_.render_from_light_centre(ctx);
     vis.times.add("depth_map", elapsed_ms(start));
     start = std::chrono::steady_clock::now();
     const int k = pcf_;

@@ -395,8 +395,7 @@ class SilhouetteMap final : public ShadowMethod {
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     auto start = std::chrono::steady_clock::now();
-    const DepthMap map =
-        receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), map_.resolution, map_.faces);
+    const DepthMap map = map_.render_from_light_centre(ctx);
     vis.times.add("depth_map", elapsed_ms(start));
 
     // Soft mode: the band must hold the widest penumbra (nearest caster, furthest receiver).
