@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -20,6 +21,9 @@ namespace {
 
 using test::make_test_frame;
 using test::TestFrame;
+
+/// c of the quad texture bound max |ΔV| ≤ c/(n − 1) (docs/methods/wedges.md).
+constexpr double kQuadTextureC = 4.0;
 
 LightSampleSpec one_sample() {
   LightSampleSpec s;
@@ -302,6 +306,82 @@ TEST(Wedges, MeasuredErrorOnBunny) {
   print("bunny, overlap", dov);
   print("bunny, wedge_blend", db);
   EXPECT_GT(d1.shadowed, 100);
+}
+
+/// Paper III §3.3's 4D coverage texture: the derived per-pair bound (coverage_texture_bound,
+/// docs/methods/wedges.md "Coverage texture") holds for random endpoint pairs, the table is exact
+/// on its grid, and the error on the light's border (where most clipped endpoints lie) shrinks
+/// like 1/n.
+TEST(CoverageTexture, DerivedBoundHoldsAndConverges) {
+  using L = CoverageTexture::Lookup;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto on_border = [&]() {
+    const double t = u(rng);
+    switch (static_cast<int>(u(rng) * 4.0) & 3) {
+      case 0:
+        return DVec2(t, 0.0);
+      case 1:
+        return DVec2(1.0, t);
+      case 2:
+        return DVec2(t, 1.0);
+      default:
+        return DVec2(0.0, t);
+    }
+  };
+  double prev_border[2] = {1.0, 1.0};
+  for (int n : {16, 32, 64}) {
+    const CoverageTexture tex(n);
+    const double h = 1.0 / (n - 1);
+    EXPECT_NEAR(tex.unsigned_coverage({3 * h, 0.0}, {1.0, 5 * h}, L::bilinear),
+                std::abs(square_sector_minus_triangle({3 * h, 0.0}, {1.0, 5 * h})), 1e-6);
+    for (L lookup : {L::bilinear, L::quadrilinear}) {
+      double worst_ratio = 0.0, border_max = 0.0;
+      for (int k = 0; k < 20000; ++k) {
+        const bool border = k % 2 == 0;
+        const DVec2 a = border ? on_border() : DVec2(u(rng), u(rng));
+        const DVec2 b = border ? on_border() : DVec2(u(rng), u(rng));
+        const double exact = square_sector_minus_triangle(a, b);
+        const double err = std::abs(tex.sector_minus_triangle(a, b, lookup) - exact);
+        const double bound = coverage_texture_bound(a, b, n, lookup) + 1e-6;
+        EXPECT_LE(err, bound) << "n " << n << " a " << a.x << "," << a.y << " b " << b.x << ","
+                              << b.y;
+        worst_ratio = std::max(worst_ratio, err / bound);
+        if (border) border_max = std::max(border_max, err);
+      }
+      const int li = lookup == L::bilinear ? 0 : 1;
+      std::printf("    n %2d %-12s border max err %.2e (x(n-1) = %.3f), worst err/bound %.2f\n", n,
+                  li ? "quadrilinear" : "bilinear", border_max, border_max * (n - 1), worst_ratio);
+      // Both endpoints on the border: d = 1/2, the bound is about 2.1·h·L(1/2) ≈ 2·h.
+      EXPECT_LE(border_max, 2.5 * h);
+      EXPECT_LT(border_max, prev_border[li]);
+      prev_border[li] = border_max;
+    }
+  }
+}
+
+/// The texture path of `wedges` on `quad` (exact analytically): its error against `exact` is the
+/// discretisation error alone, within c/(n − 1) (c derived in docs/methods/wedges.md), and
+/// shrinks as n grows 16 → 32 → 64.
+TEST(Wedges, CoverageTextureOnQuadConverges) {
+  const auto t = make_test_frame("quad", 64, 64, one_sample());
+  for (const char* lookup : {"bilinear", "quadrilinear"}) {
+    double prev = 1.0;
+    for (int n : {16, 32, 64}) {
+      const Diff d =
+          compare(t, "wedges",
+                  {{"coverage", "texture"}, {"texture_n", std::to_string(n)}, {"lookup", lookup}});
+      char what[64];
+      std::snprintf(what, sizeof what, "quad, texture n %d %s", n, lookup);
+      print(what, d);
+      std::printf("      max x (n-1) = %.3f\n", d.max_abs * (n - 1));
+      EXPECT_LE(d.max_abs, kQuadTextureC / (n - 1)) << lookup << " n " << n;
+      EXPECT_LT(d.max_abs, prev) << lookup << " n " << n;
+      prev = d.max_abs;
+    }
+  }
+  // The analytic path is untouched by the option's existence.
+  EXPECT_LE(compare(t, "wedges", {{"coverage", "analytic"}}).max_abs, 1.0 / 255.0);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "penumbra/shadows/wedge_coverage.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "penumbra/shadows/exact_projection.hpp"
 
@@ -115,6 +117,84 @@ double disk_sector_minus_triangle(const DVec2& a, const DVec2& b) {
   const double cr = cross2(da, db);
   const double angle = std::atan2(cr, glm::dot(da, db));  // signed, in (−π, π]
   return 0.5 * (0.25 * angle - cr);
+}
+
+CoverageTexture::CoverageTexture(int n) : n_(std::max(2, n)) {
+  const size_t m = static_cast<size_t>(n_);
+  table_.resize(m * m * m * m);
+  const double h = 1.0 / (n_ - 1);
+  const DVec2 c(0.5);
+  size_t k = 0;
+  for (int ya = 0; ya < n_; ++ya)
+    for (int xa = 0; xa < n_; ++xa)
+      for (int yb = 0; yb < n_; ++yb)
+        for (int xb = 0; xb < n_; ++xb) {
+          const DVec2 a(xa * h, ya * h), b(xb * h, yb * h);
+          double f = std::abs(square_sector_minus_triangle(a, b));
+          // c on the segment (grid pairs symmetric about c): square_sector_minus_triangle says 0
+          // (no orientation), but f's limit from either side is half the square.
+          if (cross2(a - c, b - c) == 0.0 && glm::dot(a - c, b - c) < 0.0) f = 0.5;
+          table_[k++] = static_cast<float>(f);
+        }
+}
+
+namespace {
+
+/// Grid cell and fraction of a uv coordinate on the nodes i / (n − 1).
+void cell(double u, int n, int& i, double& t) {
+  const double f = std::clamp(u, 0.0, 1.0) * (n - 1);
+  i = std::min(static_cast<int>(f), n - 2);
+  t = f - i;
+}
+
+}  // namespace
+
+double CoverageTexture::bilinear_b(size_t sub, const DVec2& b) const {
+  int ix, iy;
+  double tx, ty;
+  cell(b.x, n_, ix, tx);
+  cell(b.y, n_, iy, ty);
+  const size_t m = static_cast<size_t>(n_);
+  const float* t = table_.data() + sub * m * m + static_cast<size_t>(iy) * m + ix;
+  const double r0 = (1.0 - tx) * t[0] + tx * t[1], r1 = (1.0 - tx) * t[m] + tx * t[m + 1];
+  return (1.0 - ty) * r0 + ty * r1;
+}
+
+double CoverageTexture::unsigned_coverage(const DVec2& a, const DVec2& b, Lookup lookup) const {
+  const size_t m = static_cast<size_t>(n_);
+  if (lookup == Lookup::bilinear) {
+    const auto nearest = [&](double u) {
+      return static_cast<size_t>(std::lround(std::clamp(u, 0.0, 1.0) * (n_ - 1)));
+    };
+    return bilinear_b(nearest(a.y) * m + nearest(a.x), b);
+  }
+  int ix, iy;
+  double tx, ty;
+  cell(a.x, n_, ix, tx);
+  cell(a.y, n_, iy, ty);
+  const size_t s = static_cast<size_t>(iy) * m + ix;
+  const double r0 = (1.0 - tx) * bilinear_b(s, b) + tx * bilinear_b(s + 1, b);
+  const double r1 = (1.0 - tx) * bilinear_b(s + m, b) + tx * bilinear_b(s + m + 1, b);
+  return (1.0 - ty) * r0 + ty * r1;
+}
+
+double CoverageTexture::sector_minus_triangle(const DVec2& a, const DVec2& b, Lookup lookup) const {
+  const double tri2 = cross2(a - DVec2(0.5), b - DVec2(0.5));
+  if (tri2 == 0.0) return 0.0;
+  return (tri2 > 0.0 ? 1.0 : -1.0) * unsigned_coverage(a, b, lookup);
+}
+
+double coverage_texture_bound(const DVec2& a, const DVec2& b, int n,
+                              CoverageTexture::Lookup lookup) {
+  const double h = 1.0 / (std::max(2, n) - 1), R = std::sqrt(0.5);
+  const auto L = [&](const DVec2& p, double shift) {
+    const double d = glm::length(p - DVec2(0.5)) - shift;
+    return d > 0.0 ? 0.25 / d + 0.5 * R : std::numeric_limits<double>::infinity();
+  };
+  const double s2 = std::sqrt(2.0);
+  if (lookup == CoverageTexture::Lookup::bilinear)
+    return h * (L(a, h / s2) / s2 + s2 * L(b, s2 * h));
+  return s2 * h * (L(a, s2 * h) + L(b, s2 * h));
 }
 
 }  // namespace penumbra

@@ -14,6 +14,8 @@
 // which is the paper's "hard shadow from the centre, plus inner, minus outer wedge halves".
 #pragma once
 
+#include <vector>
+
 #include "penumbra/core/math.hpp"
 
 namespace penumbra {
@@ -43,5 +45,43 @@ double square_sector_minus_triangle(const DVec2& a, const DVec2& b);
 /// The same for the inscribed disk: (r²·angle(a, b) − cross(a − c, b − c)) / 2 with r = 0.5
 /// [paper IV §4.2.1].
 double disk_sector_minus_triangle(const DVec2& a, const DVec2& b);
+
+/// The 4D coverage texture of paper III §3.3 for a uniform rectangular light: the coverage
+/// f(x1, y1, x2, y2) = |square_sector_minus_triangle(a, b)| of the light by the projected hard
+/// shadow quad of a clipped edge a = (x1, y1) → b = (x2, y2) (paper III fig. 8), precomputed with
+/// exact clipping for both endpoints on an n × n grid over the light (n⁴ floats) and looked up per
+/// pixel. In light uv it is the same for every rectangle, so one table serves every light and
+/// sub-light. The sign (outer or inner half) is not in the table: it is taken exactly from the
+/// orientation of (c, a, b), as paper III §3.2.2 takes it from the half-space of the quad.
+/// **Deviation:** the paper puts the n × n positions at texel centres; we put them at
+/// i / (n − 1), i = 0..n−1, so that endpoints on the light's border (most clipped endpoints) are
+/// interpolated, not extrapolated. The unsigned f is continuous: where the segment passes through
+/// c, a line through the centre of the square halves it, so both sides give ½.
+class CoverageTexture {
+ public:
+  enum class Lookup {
+    bilinear,  // nearest grid point for a, bilinear in b (paper III §3.3, "bilinear filtering")
+    quadrilinear,  // bilinear in a of bilinear in b (16 taps, paper III §3.3)
+  };
+  explicit CoverageTexture(int n);
+  int n() const { return n_; }
+  /// Unsigned coverage from the table, in uv units.
+  double unsigned_coverage(const DVec2& a, const DVec2& b, Lookup lookup) const;
+  /// Signed like square_sector_minus_triangle (> 0 when (c, a, b) turns counter-clockwise).
+  double sector_minus_triangle(const DVec2& a, const DVec2& b, Lookup lookup) const;
+
+ private:
+  double bilinear_b(size_t sub, const DVec2& b) const;
+  int n_ = 0;
+  std::vector<float> table_;  // [((ya · n + xa) · n + yb) · n + xb]
+};
+
+/// A per-pair bound on |texture − exact| derived in docs/methods/wedges.md ("Coverage texture"):
+/// with h = 1/(n − 1), R = √2/2 and L(d) = 1/(4d) + R/2 the Lipschitz bound of f in one endpoint
+/// at distance d from c, bilinear: h·(L_a/√2 + √2·L_b); quadrilinear: √2·h·(L_a + L_b), with
+/// each L evaluated at d − (its endpoint's displacement). Infinite when an endpoint is too close
+/// to c.
+double coverage_texture_bound(const DVec2& a, const DVec2& b, int n,
+                              CoverageTexture::Lookup lookup);
 
 }  // namespace penumbra

@@ -32,6 +32,12 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
                                   WedgeStats& st) {
   const GBuffer& g = ctx.gbuffer;
   const Vec3 centre = hard_shadow_point(light);
+  // Paper III §3.3: the coverage texture replaces the analytic area for rectangular lights.
+  const CoverageTexture* tex =
+      options.texture && light.shape == LightShape::rect ? options.table.get() : nullptr;
+  auto area = [&](const CoveredEdge& e) {
+    return tex ? tex->sector_minus_triangle(e.a, e.b, options.lookup) : e.area;
+  };
 
   // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
   // approximation, per group (connected component ≈ silhouette loop, wedge_pass.hpp).
@@ -60,7 +66,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
                    [&](uint32_t, double hard, const std::vector<CoveredEdge>& edges) {
                      double sum = hard;
                      for (const CoveredEdge& e : edges)
-                       sum += pl->occlusion(bw->wedges[e.wedge], e.area);
+                       sum += pl->occlusion(bw->wedges[e.wedge], area(e));
                      total = overlap_combine(total, std::clamp(sum, 0.0, 1.0));
                    });
     return static_cast<float>(1.0 - total);
@@ -94,7 +100,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
         double sum = count[i];
         if (pl)
           visit_covered(*pl, bw, bin, 0, bin.size(), c, [&](const CoveredEdge& e) {
-            sum += pl->occlusion(bw.wedges[e.wedge], e.area);
+            sum += pl->occlusion(bw.wedges[e.wedge], area(e));
           });
         return static_cast<float>(1.0 - std::clamp(sum, 0.0, 1.0));
       });
@@ -108,9 +114,12 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
 }  // namespace
 
-Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options,
+Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options_in,
                               WedgeStats* stats_out) {
   WedgeStats st;
+  WedgeOptions options = options_in;
+  if (options.texture && !options.table)
+    options.table = std::make_shared<const CoverageTexture>(options.texture_n);
   const PixelSetup setup = pixel_setup(ctx);
   const Light& light = ctx.light;
   // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
@@ -143,7 +152,10 @@ namespace {
 
 class Wedges final : public ShadowMethod {
  public:
-  explicit Wedges(WedgeOptions options) : options_(options) {}
+  explicit Wedges(WedgeOptions options) : options_(std::move(options)) {
+    if (options_.texture && !options_.table)
+      options_.table = std::make_shared<const CoverageTexture>(options_.texture_n);
+  }
 
   Visibility compute(const ShadowContext& ctx) override {
     WedgeStats st;
@@ -194,11 +206,34 @@ void register_wedges(MethodRegistry& registry) {
        {},
        0,
        1},
+      {"coverage",
+       OptionType::choice,
+       "analytic",
+       "edge coverage on a rectangular light: analytic sector minus triangle, or the 4D coverage "
+       "texture of paper III 3.3",
+       {"analytic", "texture"}},
+      {"texture_n",
+       OptionType::integer,
+       "32",
+       "coverage texture: n x n endpoint positions per endpoint (n^4 entries)",
+       {},
+       2,
+       96},
+      {"lookup",
+       OptionType::choice,
+       "bilinear",
+       "coverage texture filtering: nearest first endpoint and bilinear second (bilinear), or "
+       "bilinear in both (quadrilinear), paper III 3.3",
+       {"bilinear", "quadrilinear"}},
   };
   info.create = [](const MethodOptions& o) {
     WedgeOptions w;
     w.split = o.get_int("split");
     w.overlap = o.get_bool("overlap");
+    w.texture = o.get_choice("coverage") == "texture";
+    w.texture_n = o.get_int("texture_n");
+    w.lookup = o.get_choice("lookup") == "quadrilinear" ? CoverageTexture::Lookup::quadrilinear
+                                                        : CoverageTexture::Lookup::bilinear;
     return std::make_unique<Wedges>(w);
   };
   registry.add(std::move(info));

@@ -23,8 +23,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "penumbra/shadows/method.hpp"
+#include "penumbra/shadows/wedge_coverage.hpp"
 
 namespace penumbra {
 
@@ -34,6 +36,14 @@ struct WedgeOptions {
   /// wedges, clamped) is computed apart and combined as max + ½ min. Groups are connected
   /// components of the casters (one per silhouette loop for convex-ish parts; wedge_pass.hpp).
   bool overlap = false;
+  /// Coverage of a clipped edge on a rectangular light: analytic sector minus triangle, or the 4D
+  /// coverage texture of paper III §3.3 (texture_n² × texture_n² entries, `lookup` filtering).
+  /// Round lights always use the analytic formula.
+  bool texture = false;
+  int texture_n = 32;
+  CoverageTexture::Lookup lookup = CoverageTexture::Lookup::bilinear;
+  /// The table, built by wedge_visibility when null (the method builds it once).
+  std::shared_ptr<const CoverageTexture> table;
 };
 
 struct WedgeStats {

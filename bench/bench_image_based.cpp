@@ -1,0 +1,129 @@
+// Google Benchmark: the image-based soft-shadow methods of issue #6 — `ssm` (Atty et al. 2006)
+// one-pass and two-pass, `silhouette_map` hard and soft (Valient & Bujnak) — against `pcss` and
+// `raytrace` (16×16 grid samples) on bunny, 1024×1024, all cores; then `ssm` time vs the
+// occluder-map resolution (32…512, the paper's Fig. 22) and vs the light size (×1, ×2, ×3 of the
+// scene's 0.5 side, Fig. 23).
+//   scripts/build.sh release --target bench_image_based
+//   ./build/release/bench/bench_image_based --benchmark_counters_tabular=true
+// Needs scripts/fetch-models.sh (bunny); every benchmark is skipped with a message otherwise.
+// Times are the method's own (Frame::run: G-buffer and BVH built once, outside the loop).
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+namespace penumbra {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+/// One bunny frame per (size, k, light scale), built once and reused by every iteration.
+const Fixture* fixture(int size, int k, int light_scale) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key =
+      std::to_string(size) + "/" + std::to_string(k) + "/" + std::to_string(light_scale);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (!find_model("bunny00.off")) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene("bunny"));
+    f.scene->camera.width = f.scene->camera.height = size;
+    Light& l = f.scene->lights[0];
+    l.edge_u = l.edge_u * static_cast<float>(light_scale);
+    l.edge_v = l.edge_v * static_cast<float>(light_scale);
+    LightSampleSpec spec;
+    spec.pattern = SamplePattern::grid;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+void run_method(benchmark::State& state, const std::string& method,
+                const std::map<std::string, std::string>& options, int size, int k,
+                int light_scale = 1) {
+  const Fixture* f = fixture(size, k, light_scale);
+  if (!f) {
+    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, options);
+  std::map<std::string, double> counters;
+  for (auto _ : state) {
+    const MethodResult r = f->frame->run(info, opts, false);
+    counters = r.per_light[0].counters;
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+  for (const char* c : {"occluder_texels", "penumbra_texels", "silhouette_faces"})
+    if (counters.count(c)) state.counters[c] = counters.at(c);
+}
+
+constexpr int kSize = 1024;
+
+// --- Methods at 1024² -------------------------------------------------------------------------
+void BM_SsmOnePass(benchmark::State& state) {
+  run_method(state, "ssm", {{"two_pass", "false"}}, kSize, 1);
+}
+void BM_SsmTwoPass(benchmark::State& state) {
+  run_method(state, "ssm", {{"two_pass", "true"}}, kSize, 1);
+}
+void BM_SilhouetteMapHard(benchmark::State& state) {
+  run_method(state, "silhouette_map", {{"mode", "hard"}}, kSize, 1);
+}
+void BM_SilhouetteMapSoft(benchmark::State& state) {
+  run_method(state, "silhouette_map", {{"mode", "soft"}}, kSize, 1);
+}
+void BM_Pcss(benchmark::State& state) {
+  run_method(state, "pcss", {}, kSize, 1);
+}
+void BM_Raytrace16x16(benchmark::State& state) {
+  run_method(state, "raytrace", {}, kSize, 16);
+}
+
+#define PENUMBRA_IMAGE_BENCH(fn) \
+  BENCHMARK(fn)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()
+
+PENUMBRA_IMAGE_BENCH(BM_SsmOnePass);
+PENUMBRA_IMAGE_BENCH(BM_SsmTwoPass);
+PENUMBRA_IMAGE_BENCH(BM_SilhouetteMapHard);
+PENUMBRA_IMAGE_BENCH(BM_SilhouetteMapSoft);
+PENUMBRA_IMAGE_BENCH(BM_Pcss);
+PENUMBRA_IMAGE_BENCH(BM_Raytrace16x16)->Iterations(2);
+
+// --- ssm vs occluder-map resolution (Fig. 22) and light size (Fig. 23) -------------------------
+void BM_SsmResolution(benchmark::State& state) {
+  run_method(state, "ssm",
+             {{"resolution", std::to_string(state.range(0))},
+              {"two_pass", state.range(1) ? "true" : "false"}},
+             kSize, 1);
+}
+BENCHMARK(BM_SsmResolution)
+    ->ArgNames({"res", "two_pass"})
+    ->ArgsProduct({{32, 64, 128, 256, 512}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_SsmLightSize(benchmark::State& state) {
+  run_method(state, "ssm", {{"resolution", std::to_string(state.range(1))}, {"two_pass", "false"}},
+             kSize, 1, static_cast<int>(state.range(0)));
+}
+BENCHMARK(BM_SsmLightSize)
+    ->ArgNames({"light_x", "res"})
+    ->ArgsProduct({{1, 2, 3}, {128, 256}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace penumbra
+
+BENCHMARK_MAIN();

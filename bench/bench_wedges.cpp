@@ -1,0 +1,130 @@
+// Google Benchmark: `wedges` and `wedge_blend` against `raytrace` (16×16 samples) in one process
+// (issue #4), and how their cost grows with the light's size and the resolution, beside the
+// "pixels inside wedges" counter (papers III §5 / IV §6: cost follows the pixels inside wedges).
+//   ./build/release/bench/bench_wedges --benchmark_counters_tabular=true
+// Scenes: bunny (needs scripts/fetch-models.sh) and spheres. Args: {size, k, light scale}.
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+namespace penumbra {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+/// One frame per (scene, size, k, light scale), built once and reused by every iteration. The
+/// light's edge vectors are scaled by `scale` (its area by scale²), centre unchanged.
+const Fixture* fixture(const std::string& name, int size, int k, int scale) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key =
+      name + "/" + std::to_string(size) + "/" + std::to_string(k) + "/" + std::to_string(scale);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (name == "bunny" && !find_model("bunny00.off")) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
+    f.scene->camera.width = f.scene->camera.height = size;
+    for (Light& l : f.scene->lights) {
+      l.edge_u *= static_cast<float>(scale);
+      l.edge_v *= static_cast<float>(scale);
+      l.radius *= static_cast<float>(scale);
+    }
+    LightSampleSpec spec;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
+                const std::map<std::string, std::string>& options) {
+  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)),
+                             static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
+  if (!f) {
+    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
+    return;
+  }
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, options);
+  std::map<std::string, double> counters;
+  double pass2_ms = 0.0, setup_ms = 0.0;
+  for (auto _ : state) {
+    const MethodResult r = f->frame->run(info, opts, false);
+    counters = r.per_light[0].counters;
+    const StageTimes& t = r.per_light[0].times;
+    pass2_ms = t.get("pass2") + t.get("pass2_blend");  // the last iteration's
+    setup_ms = t.get("wedges");
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+  for (const char* c : {"pixels_inside_wedges", "pixel_tests", "wedges"}) {
+    auto it = counters.find(c);
+    if (it != counters.end()) state.counters[c] = it->second;
+  }
+  if (counters.count("wedges")) {
+    state.counters["pass2_ms"] = pass2_ms;
+    state.counters["wedge_setup_ms"] = setup_ms;
+  }
+  auto it = counters.find("rays");
+  if (it != counters.end()) state.counters["rays"] = it->second;
+}
+
+void BM_Wedges(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "wedges", {});
+}
+void BM_WedgeBlend(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "wedge_blend", {});
+}
+/// Paper III §3.3's coverage texture (n = 32, bilinear) instead of the analytic area.
+void BM_WedgesTexture(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "wedges", {{"coverage", "texture"}});
+}
+void BM_Raytrace(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "raytrace", {{"path", "packet16"}});
+}
+
+/// {size, k, scale}: 1024² at ×1, ×2, ×3 light; 512² and 2048² at ×1.
+void wedge_args(benchmark::internal::Benchmark* b) {
+  b->Args({1024, 1, 1})->Args({1024, 1, 2})->Args({1024, 1, 3});
+  b->Args({512, 1, 1})->Args({2048, 1, 1});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+}
+
+BENCHMARK_CAPTURE(BM_Raytrace, bunny, std::string("bunny"))
+    ->Args({1024, 16, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_Wedges, bunny, std::string("bunny"))->Apply(wedge_args);
+BENCHMARK_CAPTURE(BM_WedgeBlend, bunny, std::string("bunny"))->Apply(wedge_args);
+BENCHMARK_CAPTURE(BM_WedgesTexture, bunny, std::string("bunny"))
+    ->Args({1024, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
+BENCHMARK_CAPTURE(BM_Raytrace, spheres, std::string("spheres"))
+    ->Args({1024, 16, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_Wedges, spheres, std::string("spheres"))->Apply(wedge_args);
+BENCHMARK_CAPTURE(BM_WedgeBlend, spheres, std::string("spheres"))->Apply(wedge_args);
+BENCHMARK_CAPTURE(BM_WedgesTexture, spheres, std::string("spheres"))
+    ->Args({1024, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
+
+}  // namespace
+}  // namespace penumbra
+
+BENCHMARK_MAIN();
