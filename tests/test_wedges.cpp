@@ -24,6 +24,9 @@ using test::TestFrame;
 
 /// c of the quad texture bound max |ΔV| ≤ c/(n − 1) (docs/methods/wedges.md).
 constexpr double kQuadTextureC = 4.0;
+/// The same for the RGB table of a textured light, per channel, times the channel's maximum
+/// normalised emission density ρ_max (docs/methods/wedges.md "Textured lights").
+constexpr double kQuadTextureRgbC = 7.5;
 
 LightSampleSpec one_sample() {
   LightSampleSpec s;
@@ -382,6 +385,146 @@ TEST(Wedges, CoverageTextureOnQuadConverges) {
   }
   // The analytic path is untouched by the option's existence.
   EXPECT_LE(compare(t, "wedges", {{"coverage", "analytic"}}).max_abs, 1.0 / 255.0);
+}
+
+/// `quad` with its light given a 2×2 RGB emission texture (every texel a different colour, so each
+/// channel's emission is non-uniform and the three channels differ).
+Scene textured_quad() {
+  Scene s = make_builtin_scene("quad");
+  Texture tex;
+  tex.name = "emission_2x2";
+  tex.width = 2;
+  tex.height = 2;
+  tex.channels = 3;
+  tex.texels = {1.0f, 0.2f, 0.1f, 0.1f, 1.0f, 0.3f, 0.3f, 0.2f, 1.0f, 0.8f, 0.8f, 0.2f};
+  s.textures.push_back(tex);
+  s.lights[0].emission_texture = static_cast<int>(s.textures.size()) - 1;
+  return s;
+}
+
+/// max |Δ| per channel of lit_rgb and of lit, method against exact.
+struct RgbDiff {
+  DVec3 max_rgb{0.0};
+  double max_lit = 0.0, max_lum = 0.0;
+  int penumbra = 0;
+};
+RgbDiff compare_rgb(const TestFrame& t, const std::map<std::string, std::string>& options) {
+  const MethodResult a = t.run("wedges", options);
+  const MethodResult r = t.run("exact");
+  const Visibility& va = a.per_light[0];
+  const Visibility& vr = r.per_light[0];
+  EXPECT_TRUE(va.lit_rgb.has_value());
+  EXPECT_TRUE(vr.lit_rgb.has_value());
+  RgbDiff d;
+  if (!va.lit_rgb || !vr.lit_rgb) return d;
+  const Scene& s = *t.scene;
+  const Texture& tex = s.textures[s.lights[0].emission_texture];
+  const LightEmission em(tex, s.lights[0].radiance);
+  for (size_t i = 0; i < va.lit.size(); ++i) {
+    if (t.frame->receivers(0)[i] != kActive) continue;
+    const Vec3 ca = (*va.lit_rgb)[i], cr = (*vr.lit_rgb)[i];
+    for (int c = 0; c < 3; ++c)
+      d.max_rgb[c] = std::max(d.max_rgb[c], std::abs(static_cast<double>(ca[c]) - cr[c]));
+    d.max_lit = std::max(d.max_lit, std::abs(static_cast<double>(va.lit[i]) - vr.lit[i]));
+    // lit is the Rec. 709 luminance ratio of lit_rgb weighted by the light's emission.
+    double seen = 0.0, all = 0.0;
+    const double lum[3] = {0.2126, 0.7152, 0.0722};
+    for (int c = 0; c < 3; ++c) {
+      seen += lum[c] * em.total[c] * ca[c];
+      all += lum[c] * em.total[c];
+    }
+    d.max_lum = std::max(d.max_lum, std::abs(seen / all - va.lit[i]));
+    d.penumbra += vr.lit[i] > 1e-4f && vr.lit[i] < 1.0f - 1e-4f;
+  }
+  return d;
+}
+
+/// The emission-weighted coverage: a uniform texture gives the analytic area; random pairs of the
+/// RGB table stay within the derived per-pair bound (docs/methods/wedges.md "Textured lights").
+TEST(CoverageTexture, RgbTableWithinDerivedBound) {
+  Texture flat;
+  flat.width = 3;
+  flat.height = 2;
+  flat.channels = 1;
+  flat.texels.assign(6, 0.7f);
+  const LightEmission uniform(flat, Vec3(1.0f, 2.0f, 0.5f));
+  const Scene s = textured_quad();
+  const LightEmission em(s.textures[0], s.lights[0].radiance);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    const DVec2 a(u(rng), u(rng)), b(u(rng), u(rng));
+    const DVec3 w = weighted_sector_minus_triangle(uniform, a, b);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(w[c], square_sector_minus_triangle(a, b), 1e-12);
+  }
+  using L = CoverageTexture::Lookup;
+  for (int n : {16, 32}) {
+    const CoverageTextureRGB tex(n, em);
+    for (L lookup : {L::bilinear, L::quadrilinear}) {
+      double worst_ratio = 0.0;
+      for (int k = 0; k < 10000; ++k) {
+        DVec2 a(u(rng), u(rng)), b(u(rng), u(rng));
+        if (k % 2) {  // half on the border, like most clipped endpoints
+          a[k % 4 == 1 ? 0 : 1] = std::round(a[k % 4 == 1 ? 0 : 1]);
+          b[k % 4 == 1 ? 1 : 0] = std::round(b[k % 4 == 1 ? 1 : 0]);
+        }
+        const DVec3 exact = weighted_sector_minus_triangle(em, a, b);
+        const DVec3 got = tex.sector_minus_triangle(a, b, lookup);
+        for (int c = 0; c < 3; ++c) {
+          const double bound =
+              coverage_texture_rgb_bound(a, b, n, lookup, em.max_density[c]) + 1e-6;
+          const double err = std::abs(got[c] - exact[c]);
+          EXPECT_LE(err, bound) << "n " << n << " pair " << k << " channel " << c;
+          if (std::isfinite(bound)) worst_ratio = std::max(worst_ratio, err / bound);
+        }
+      }
+      std::printf("    rgb table n %d %s: worst error/bound %.3f\n", n,
+                  lookup == L::bilinear ? "bilinear" : "quadrilinear", worst_ratio);
+    }
+  }
+}
+
+/// `quad` under a 2×2 RGB-textured light: the exact emission-weighted coverage (coverage =
+/// analytic) reproduces exact's lit_rgb (the method is exact for one planar convex occluder), and
+/// the RGB table (coverage = texture) stays within ρ_max,c · kQuadTextureRgbC / (n − 1) per
+/// channel, shrinking with n; lit is the luminance ratio of lit_rgb.
+TEST(Wedges, TexturedLightRgbOnQuad) {
+  const auto t = make_test_frame(textured_quad(), 64, 64, one_sample());
+  const Scene& s = *t.scene;
+  const LightEmission em(s.textures[0], s.lights[0].radiance);
+  const RgbDiff d0 = compare_rgb(t, {});
+  std::printf("    textured quad, analytic: max rgb %.2e %.2e %.2e  lit %.2e  lum %.2e  pen %d\n",
+              d0.max_rgb[0], d0.max_rgb[1], d0.max_rgb[2], d0.max_lit, d0.max_lum, d0.penumbra);
+  for (int c = 0; c < 3; ++c) EXPECT_LE(d0.max_rgb[c], 1.0 / 255.0) << c;
+  EXPECT_LE(d0.max_lit, 1.0 / 255.0);
+  EXPECT_LE(d0.max_lum, 1e-5);
+  EXPECT_GT(d0.penumbra, 200);
+  // One group: the per-channel overlap approximation changes nothing.
+  const RgbDiff dov = compare_rgb(t, {{"overlap", "true"}});
+  for (int c = 0; c < 3; ++c) EXPECT_LE(dov.max_rgb[c], 1.0 / 255.0) << c;
+  for (const char* lookup : {"bilinear", "quadrilinear"}) {
+    DVec3 prev(1.0);
+    for (int n : {16, 32, 64}) {
+      const RgbDiff d = compare_rgb(
+          t, {{"coverage", "texture"}, {"texture_n", std::to_string(n)}, {"lookup", lookup}});
+      std::printf(
+          "    textured quad, texture n %d %s: max rgb %.2e %.2e %.2e (x(n-1)/rho %.3f %.3f "
+          "%.3f)  lit %.2e  lum %.2e\n",
+          n, lookup, d.max_rgb[0], d.max_rgb[1], d.max_rgb[2],
+          d.max_rgb[0] * (n - 1) / em.max_density[0], d.max_rgb[1] * (n - 1) / em.max_density[1],
+          d.max_rgb[2] * (n - 1) / em.max_density[2], d.max_lit, d.max_lum);
+      double lit_bound = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double bound = em.max_density[c] * kQuadTextureRgbC / (n - 1);
+        EXPECT_LE(d.max_rgb[c], bound) << lookup << " n " << n << " channel " << c;
+        EXPECT_LT(d.max_rgb[c], prev[c]) << lookup << " n " << n << " channel " << c;
+        lit_bound = std::max(lit_bound, bound);
+      }
+      EXPECT_LE(d.max_lit, lit_bound) << lookup << " n " << n;
+      EXPECT_LE(d.max_lum, 1e-5);
+      prev = d.max_rgb;
+    }
+  }
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "penumbra/core/math.hpp"
+#include "penumbra/scene/texture.hpp"
 
 namespace penumbra {
 
@@ -83,5 +84,48 @@ class CoverageTexture {
 /// to c.
 double coverage_texture_bound(const DVec2& a, const DVec2& b, int n,
                               CoverageTexture::Lookup lookup);
+
+/// The emission of a textured rectangular light over light uv (nearest texel, as exact and the
+/// sampling methods read it: texel (tx, ty) covers [tx/w, (tx+1)/w] × [ty/h, (ty+1)/h]), as a
+/// per-channel density normalised so that each emitting channel integrates to 1 over the square.
+struct LightEmission {
+  int width = 0, height = 0;
+  std::vector<DVec3> density;  // per texel, row-major; 0 in a channel the light does not emit
+  DVec3 total{0.0};            // Σ texel RGB × radiance × texel area (uv units), per channel
+  DVec3 max_density{0.0};      // max over texels of `density`, per channel
+  LightEmission(const Texture& texture, const Vec3& radiance);
+};
+
+/// The emission-weighted square_sector_minus_triangle: per channel, the normalised emission of
+/// the same region (fraction of the channel's total), with the same sign. 0 when c is on the
+/// segment's line (like square_sector_minus_triangle).
+DVec3 weighted_sector_minus_triangle(const LightEmission& emission, const DVec2& a, const DVec2& b);
+
+/// The RGB coverage texture for a textured rectangular light (issue 4; paper III §3.3 "also
+/// serves textured lights"): per endpoint pair on the same n × n grid as CoverageTexture, the
+/// unsigned |weighted_sector_minus_triangle| per channel, computed exactly by clipping the region
+/// against every texel. Unlike the uniform table, the unsigned value is discontinuous where the
+/// segment passes through c (the region jumps from the half-square on one side to the other's),
+/// so a pair through c stores the limit of the counter-clockwise side (the half right of a→b) and
+/// the lookup continues every tap across that line to the lookup's own side (v → 1 − v, the
+/// complement; docs/methods/wedges.md "Textured lights").
+class CoverageTextureRGB {
+ public:
+  CoverageTextureRGB(int n, const LightEmission& emission);
+  int n() const { return n_; }
+  /// Signed like weighted_sector_minus_triangle.
+  DVec3 sector_minus_triangle(const DVec2& a, const DVec2& b, CoverageTexture::Lookup lookup) const;
+
+ private:
+  DVec3 tap(int xa, int ya, int xb, int yb, int sign) const;
+  int n_ = 0;
+  std::vector<float> table_;  // 3 floats per entry, entries ordered as CoverageTexture's
+};
+
+/// coverage_texture_bound for the RGB table of one channel with maximum normalised density
+/// rho_max: the same derivation with L_w(d) = rho_max · (1/(4d) + √2/2) (the region's symmetric
+/// difference, not its area, is what moves; docs/methods/wedges.md "Textured lights").
+double coverage_texture_rgb_bound(const DVec2& a, const DVec2& b, int n,
+                                  CoverageTexture::Lookup lookup, double rho_max);
 
 }  // namespace penumbra

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/shadow_volume.hpp"
@@ -26,10 +28,32 @@ double overlap_combine(double c, double cg) {
   return std::min(1.0, std::max(c, cg) + 0.5 * std::min(c, cg));
 }
 
+/// The RGB side of a textured rectangular light (issue 4): its emission, the RGB table (coverage
+/// = texture) and where the per-channel visible fractions go.
+struct RgbLight {
+  const LightEmission* emission = nullptr;
+  const CoverageTextureRGB* table = nullptr;
+  Image<Vec3>* out = nullptr;
+};
+
+/// V from per-channel occluded fractions: the per-channel visible fraction, and their Rec. 709
+/// luminance ratio weighted by the light's per-channel emission (light_weights.hpp).
+float rgb_visibility(const DVec3& occluded, const DVec3& total, Vec3& rgb) {
+  static constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
+  double seen = 0.0, all = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double v = total[c] > 0.0 ? 1.0 - std::clamp(occluded[c], 0.0, 1.0) : 1.0;
+    rgb[c] = static_cast<float>(v);
+    seen += kLum[c] * total[c] * v;
+    all += kLum[c] * total[c];
+  }
+  return all > 0.0 ? static_cast<float>(std::min(1.0, seen / all)) : 1.0f;
+}
+
 /// One light (or sub-light): pass 1, silhouettes, wedges, pass 2. Returns V per pixel.
 Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
                                   const PixelSetup& setup, const WedgeOptions& options,
-                                  WedgeStats& st) {
+                                  WedgeStats& st, const RgbLight& rgb = {}) {
   const GBuffer& g = ctx.gbuffer;
   const Vec3 centre = hard_shadow_point(light);
   // Paper III §3.3: the coverage texture replaces the analytic area for rectangular lights.
@@ -37,6 +61,11 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
       options.texture && light.shape == LightShape::rect ? options.table.get() : nullptr;
   auto area = [&](const CoveredEdge& e) {
     return tex ? tex->sector_minus_triangle(e.a, e.b, options.lookup) : e.area;
+  };
+  // Textured light: the emission-weighted coverage per channel, exact or from the RGB table.
+  auto area_rgb = [&](const CoveredEdge& e) {
+    return rgb.table ? rgb.table->sector_minus_triangle(e.a, e.b, options.lookup)
+                     : weighted_sector_minus_triangle(*rgb.emission, e.a, e.b);
   };
 
   // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
@@ -71,6 +100,23 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
                    });
     return static_cast<float>(1.0 - total);
   };
+  // The same per channel (eq. 1 applied to each channel's coverage).
+  auto overlap_pixel_rgb = [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin,
+                               const BinnedWedges* bw, PassCounters& c) {
+    DVec3 total(0.0);
+    for_each_group(gcount, i, pl, bin, bw, c,
+                   [&](uint32_t, double hard, const std::vector<CoveredEdge>& edges) {
+                     DVec3 sum(hard);
+                     for (const CoveredEdge& e : edges) {
+                       const DVec3 w = area_rgb(e);
+                       for (int k = 0; k < 3; ++k)
+                         sum[k] += pl->occlusion(bw->wedges[e.wedge], w[k]);
+                     }
+                     for (int k = 0; k < 3; ++k)
+                       total[k] = overlap_combine(total[k], std::clamp(sum[k], 0.0, 1.0));
+                   });
+    return rgb_visibility(total, rgb.emission->total, (*rgb.out)[i]);
+  };
 
   const std::vector<DVec3> hull = light_hull_points(light);
   if (hull.empty() || sil.empty() || !setup.any_active) {  // point light: hard shadows
@@ -78,6 +124,12 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
     PassCounters unused;
     for (size_t i = 0; i < vis.size(); ++i) {
       if (ctx.receivers[i] != kActive) continue;
+      if (rgb.out) {
+        vis[i] = options.overlap
+                     ? overlap_pixel_rgb(i, nullptr, {}, nullptr, unused)
+                     : rgb_visibility(DVec3(count[i]), rgb.emission->total, (*rgb.out)[i]);
+        continue;
+      }
       vis[i] = options.overlap ? overlap_pixel(i, nullptr, {}, nullptr, unused)
                                : 1.0f - std::clamp(count[i], 0.0f, 1.0f);
     }
@@ -96,6 +148,17 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   Image<float> vis = run_pass2(
       ctx, light, bw, pc,
       [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, PassCounters& c) {
+        if (rgb.out) {
+          if (options.overlap) return overlap_pixel_rgb(i, pl, bin, &bw, c);
+          // The hard count covers every channel alike; each wedge adds its per-channel coverage.
+          DVec3 sum(count[i]);
+          if (pl)
+            visit_covered(*pl, bw, bin, 0, bin.size(), c, [&](const CoveredEdge& e) {
+              const DVec3 w = area_rgb(e);
+              for (int k = 0; k < 3; ++k) sum[k] += pl->occlusion(bw.wedges[e.wedge], w[k]);
+            });
+          return rgb_visibility(sum, rgb.emission->total, (*rgb.out)[i]);
+        }
         if (options.overlap) return overlap_pixel(i, pl, bin, &bw, c);
         double sum = count[i];
         if (pl)
@@ -115,13 +178,32 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 }  // namespace
 
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options_in,
-                              WedgeStats* stats_out) {
+                              WedgeStats* stats_out, Image<Vec3>* lit_rgb) {
   WedgeStats st;
   WedgeOptions options = options_in;
-  if (options.texture && !options.table)
-    options.table = std::make_shared<const CoverageTexture>(options.texture_n);
   const PixelSetup setup = pixel_setup(ctx);
   const Light& light = ctx.light;
+  // Textured rectangular light (issue 4): RGB visibility from the emission-weighted coverage,
+  // exact per pixel (coverage = analytic) or from the RGB coverage table (coverage = texture).
+  if (light.shape == LightShape::rect && light.is_textured()) {
+    if (light.emission_texture >= static_cast<int>(ctx.scene.textures.size()))
+      throw Error("wedges: light '" + light.name + "' names emission texture " +
+                  std::to_string(light.emission_texture) + " of " +
+                  std::to_string(ctx.scene.textures.size()));
+    const LightEmission emission(ctx.scene.textures[light.emission_texture], light.radiance);
+    std::unique_ptr<CoverageTextureRGB> table;
+    if (options.texture) table = std::make_unique<CoverageTextureRGB>(options.texture_n, emission);
+    Image<Vec3> rgb_img(ctx.gbuffer.width, ctx.gbuffer.height, Vec3(1.0f));
+    // Light splitting is not applied: a sub-light would need its own part of the texture.
+    Image<float> vis = visibility_for_light(ctx, light, setup, options, st,
+                                            RgbLight{&emission, table.get(), &rgb_img});
+    st.sub_lights = 1;
+    if (lit_rgb) *lit_rgb = std::move(rgb_img);
+    if (stats_out) *stats_out = st;
+    return vis;
+  }
+  if (options.texture && !options.table)
+    options.table = std::make_shared<const CoverageTexture>(options.texture_n);
   // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
   const int n = light.shape == LightShape::rect ? std::max(1, options.split) : 1;
   Image<float> vis;
@@ -160,7 +242,9 @@ class Wedges final : public ShadowMethod {
   Visibility compute(const ShadowContext& ctx) override {
     WedgeStats st;
     Visibility v;
-    v.lit = wedge_visibility(ctx, options_, &st);
+    Image<Vec3> rgb;
+    v.lit = wedge_visibility(ctx, options_, &st, &rgb);
+    if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     v.times.add("silhouettes", st.silhouettes_ms);
     v.times.add("pass1", st.pass1_ms);
     v.times.add("wedges", st.wedges_ms);
@@ -186,7 +270,7 @@ void register_wedges(MethodRegistry& registry) {
   info.name = "wedges";
   info.summary =
       "soft shadow volumes: hard count from the light centre plus analytic penumbra-wedge "
-      "coverage per silhouette edge (rectangle, disk, sphere lights)";
+      "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB)";
   info.reference = "[seed 000 papers III §3, IV §4–5; Forest thesis §3.1, App. 3.B]";
   info.sample_exact = false;
   info.options = {
@@ -210,7 +294,8 @@ void register_wedges(MethodRegistry& registry) {
        OptionType::choice,
        "analytic",
        "edge coverage on a rectangular light: analytic sector minus triangle, or the 4D coverage "
-       "texture of paper III 3.3",
+       "texture of paper III 3.3; a textured rectangular light gets RGB visibility from the "
+       "emission-weighted coverage (exact per texel, or the RGB coverage texture)",
        {"analytic", "texture"}},
       {"texture_n",
        OptionType::integer,

@@ -57,8 +57,10 @@ struct WedgeStats {
   double silhouettes_ms = 0.0, pass1_ms = 0.0, wedges_ms = 0.0, pass2_ms = 0.0;
 };
 
-/// Visible fraction of ctx.light for every kActive pixel (others 1).
+/// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
+/// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for
+/// other lights) and V = its Rec. 709 luminance ratio; `split` is ignored for such a light.
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options,
-                              WedgeStats* stats = nullptr);
+                              WedgeStats* stats = nullptr, Image<Vec3>* lit_rgb = nullptr);
 
 }  // namespace penumbra
