@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_fixture.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -18,44 +19,11 @@
 namespace penumbra {
 namespace {
 
-struct Fixture {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Frame> frame;
-};
-
-bool available(const std::string& scene) {
-  if (scene == "bunny") return find_model("bunny00.off").has_value();
-  if (scene == "dragon") return find_model("ChineseDragon-10kv.off").has_value();
-  return true;
-}
-
-/// One frame per (scene, size, k, light scale), built once and reused by every iteration.
-const Fixture* fixture(const std::string& name, int size, int k, int light_scale) {
-  static std::map<std::string, Fixture> cache;
-  const std::string key = name + "/" + std::to_string(size) + "/" + std::to_string(k) + "/" +
-                          std::to_string(light_scale);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    if (!available(name)) return nullptr;
-    Fixture f;
-    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
-    f.scene->camera.width = f.scene->camera.height = size;
-    for (Light& l : f.scene->lights) {
-      l.edge_u *= static_cast<float>(light_scale);
-      l.edge_v *= static_cast<float>(light_scale);
-    }
-    LightSampleSpec spec;
-    spec.k = k;
-    f.frame = std::make_unique<Frame>(*f.scene, spec);
-    it = cache.emplace(key, std::move(f)).first;
-  }
-  return &it->second;
-}
-
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 std::map<std::string, std::string> options, bool with_bvh_build = false) {
-  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)),
-                             static_cast<int>(state.range(1)), static_cast<int>(state.range(3)));
+  const bench::Fixture* f =
+      bench::cached_frame(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                          static_cast<float>(state.range(3)));
   if (!f) {
     state.SkipWithError("model not fetched: run scripts/fetch-models.sh");
     return;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_fixture.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -16,32 +17,9 @@
 namespace penumbra {
 namespace {
 
-struct Fixture {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Frame> frame;
-};
-
-/// One frame per (size, k), built once and reused by every iteration.
-const Fixture* fixture(int size, int k) {
-  static std::map<std::string, Fixture> cache;
-  const std::string key = std::to_string(size) + "/" + std::to_string(k);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    if (!find_model("bunny00.off")) return nullptr;
-    Fixture f;
-    f.scene = std::make_unique<Scene>(make_builtin_scene("bunny"));
-    f.scene->camera.width = f.scene->camera.height = size;
-    LightSampleSpec spec;
-    spec.pattern = SamplePattern::grid;
-    spec.k = k;
-    f.frame = std::make_unique<Frame>(*f.scene, spec);
-    it = cache.emplace(key, std::move(f)).first;
-  }
-  return &it->second;
-}
-
 void run_method(benchmark::State& state, const std::string& method) {
-  const Fixture* f = fixture(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const bench::Fixture* f = bench::cached_frame("bunny", static_cast<int>(state.range(0)),
+                                                static_cast<int>(state.range(1)));
   if (!f) {
     state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
     return;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_fixture.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -20,38 +21,10 @@
 namespace penumbra {
 namespace {
 
-struct Fixture {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Frame> frame;
-};
-
-/// One bunny frame per (size, k, light scale), built once and reused by every iteration.
-const Fixture* fixture(int size, int k, int light_scale) {
-  static std::map<std::string, Fixture> cache;
-  const std::string key =
-      std::to_string(size) + "/" + std::to_string(k) + "/" + std::to_string(light_scale);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    if (!find_model("bunny00.off")) return nullptr;
-    Fixture f;
-    f.scene = std::make_unique<Scene>(make_builtin_scene("bunny"));
-    f.scene->camera.width = f.scene->camera.height = size;
-    Light& l = f.scene->lights[0];
-    l.edge_u = l.edge_u * static_cast<float>(light_scale);
-    l.edge_v = l.edge_v * static_cast<float>(light_scale);
-    LightSampleSpec spec;
-    spec.pattern = SamplePattern::grid;
-    spec.k = k;
-    f.frame = std::make_unique<Frame>(*f.scene, spec);
-    it = cache.emplace(key, std::move(f)).first;
-  }
-  return &it->second;
-}
-
 void run_method(benchmark::State& state, const std::string& method,
                 const std::map<std::string, std::string>& options, int size, int k,
                 int light_scale = 1) {
-  const Fixture* f = fixture(size, k, light_scale);
+  const bench::Fixture* f = bench::cached_frame("bunny", size, k, static_cast<float>(light_scale));
   if (!f) {
     state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
     return;

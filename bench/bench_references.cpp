@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_fixture.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -14,33 +15,10 @@
 namespace penumbra {
 namespace {
 
-struct Fixture {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Frame> frame;
-};
-
-/// One frame per (scene, size, k), built once and reused by every iteration.
-const Fixture* fixture(const std::string& name, int size, int k) {
-  static std::map<std::string, Fixture> cache;
-  const std::string key = name + "/" + std::to_string(size) + "/" + std::to_string(k);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    if (name == "bunny" && !find_model("bunny00.off")) return nullptr;
-    Fixture f;
-    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
-    f.scene->camera.width = f.scene->camera.height = size;
-    LightSampleSpec spec;
-    spec.k = k;
-    f.frame = std::make_unique<Frame>(*f.scene, spec);
-    it = cache.emplace(key, std::move(f)).first;
-  }
-  return &it->second;
-}
-
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const Fixture* f =
-      fixture(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const bench::Fixture* f = bench::cached_frame(scene, static_cast<int>(state.range(0)),
+                                                static_cast<int>(state.range(1)));
   if (!f) {
     state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
     return;

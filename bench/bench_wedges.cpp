@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_fixture.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -16,40 +17,11 @@
 namespace penumbra {
 namespace {
 
-struct Fixture {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Frame> frame;
-};
-
-/// One frame per (scene, size, k, light scale), built once and reused by every iteration. The
-/// light's edge vectors are scaled by `scale` (its area by scale²), centre unchanged.
-const Fixture* fixture(const std::string& name, int size, int k, int scale) {
-  static std::map<std::string, Fixture> cache;
-  const std::string key =
-      name + "/" + std::to_string(size) + "/" + std::to_string(k) + "/" + std::to_string(scale);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    if (name == "bunny" && !find_model("bunny00.off")) return nullptr;
-    Fixture f;
-    f.scene = std::make_unique<Scene>(make_builtin_scene(name));
-    f.scene->camera.width = f.scene->camera.height = size;
-    for (Light& l : f.scene->lights) {
-      l.edge_u *= static_cast<float>(scale);
-      l.edge_v *= static_cast<float>(scale);
-      l.radius *= static_cast<float>(scale);
-    }
-    LightSampleSpec spec;
-    spec.k = k;
-    f.frame = std::make_unique<Frame>(*f.scene, spec);
-    it = cache.emplace(key, std::move(f)).first;
-  }
-  return &it->second;
-}
-
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const Fixture* f = fixture(scene, static_cast<int>(state.range(0)),
-                             static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
+  const bench::Fixture* f =
+      bench::cached_frame(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                          static_cast<float>(state.range(2)));
   if (!f) {
     state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
     return;

@@ -1,0 +1,56 @@
+// The frame cache every benchmark shares: one frame per (scene, size, k, light scale), built once
+// and reused by every iteration, so iterations time the method alone.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/model_paths.hpp"
+
+namespace penumbra::bench {
+
+struct Fixture {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Frame> frame;
+};
+
+/// False for a model scene whose model is not fetched (the benchmark then skips with a message).
+inline bool scene_available(const std::string& scene) {
+  if (scene == "bunny") return find_model("bunny00.off").has_value();
+  if (scene == "dragon") return find_model("ChineseDragon-10kv.off").has_value();
+  return true;
+}
+
+inline constexpr const char* kNotFetched = "model not fetched: run scripts/fetch-models.sh";
+
+/// The built-in `scene` at size×size with k×k grid samples, its lights' edges (and radii) scaled
+/// by `light_scale` about their centres; nullptr when the scene's model is missing.
+inline const Fixture* cached_frame(const std::string& scene, int size, int k,
+                                   float light_scale = 1.0f) {
+  static std::map<std::string, Fixture> cache;
+  const std::string key = scene + "/" + std::to_string(size) + "/" + std::to_string(k) + "/" +
+                          std::to_string(light_scale);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (!scene_available(scene)) return nullptr;
+    Fixture f;
+    f.scene = std::make_unique<Scene>(make_builtin_scene(scene));
+    f.scene->camera.width = f.scene->camera.height = size;
+    for (Light& l : f.scene->lights) {
+      l.edge_u *= light_scale;
+      l.edge_v *= light_scale;
+      l.radius *= light_scale;
+    }
+    LightSampleSpec spec;
+    spec.pattern = SamplePattern::grid;
+    spec.k = k;
+    f.frame = std::make_unique<Frame>(*f.scene, spec);
+    it = cache.emplace(key, std::move(f)).first;
+  }
+  return &it->second;
+}
+
+}  // namespace penumbra::bench
