@@ -18,6 +18,7 @@
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/exact.hpp"
 #include "penumbra/shadows/registry.hpp"
+#include "support/frame_helpers.hpp"
 
 namespace penumbra {
 namespace {
@@ -77,15 +78,7 @@ void add_rect(Scene& s, float x0, float x1, float z0, float z1, float y, int mat
 
 bool segment_hits(const DVec3& o, const DVec3& d, const DVec3& a, const DVec3& b, const DVec3& c,
                   double& bu, double& bv) {
-  const DVec3 e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
-  const double det = glm::dot(e1, pv);
-  if (std::abs(det) < 1e-300) return false;
-  const DVec3 tv = o - a;
-  bu = glm::dot(tv, pv) / det;
-  const DVec3 qv = glm::cross(tv, e1);
-  bv = glm::dot(d, qv) / det;
-  const double t = glm::dot(e2, qv) / det;
-  return bu >= 0 && bv >= 0 && bu + bv <= 1 && t > 0 && t <= 1;
+  return test::segment_crosses_triangle(o, d, a, b, c, &bu, &bv);
 }
 
 /// A triangle the brute force tests: vertices, the material, and where its uvs come from.

@@ -184,16 +184,9 @@ TEST(Gears, NeverMissesABlockingTriangle) {
       const DVec3 x(light_frame(t.scene->lights[0], Vec3(o)).point(uv[s]));
       bool hit = false;
       for (const Mesh& m : t.scene->meshes)
-        for (size_t tri = 0; tri < m.triangle_count() && !hit; ++tri) {
-          const DVec3 a(m.vertex(tri, 0)), b(m.vertex(tri, 1)), c(m.vertex(tri, 2));
-          const DVec3 d = x - o, e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
-          const double det = glm::dot(e1, pv);
-          if (std::abs(det) < 1e-300) continue;
-          const DVec3 tv = o - a, qv = glm::cross(tv, e1);
-          const double u = glm::dot(tv, pv) / det, v = glm::dot(d, qv) / det,
-                       tt = glm::dot(e2, qv) / det;
-          hit = u >= 0 && v >= 0 && u + v <= 1 && tt > 0 && tt <= 1;
-        }
+        for (size_t tri = 0; tri < m.triangle_count() && !hit; ++tri)
+          hit = test::segment_crosses_triangle(o, x - o, DVec3(m.vertex(tri, 0)),
+                                               DVec3(m.vertex(tri, 1)), DVec3(m.vertex(tri, 2)));
       blocked += hit;
       if (hit && !mg.blocked(i, s) && !ambiguous(*t.scene, o, x)) ++missed;
     }

@@ -89,16 +89,7 @@ TEST(ShadowVolume, EqualsRaytraceOnBunny) {
 /// edge; lit from the side so the open part matters.
 TEST(ShadowVolume, EqualsRaytraceOnOpenNonManifoldMesh) {
   Scene s = make_builtin_scene("quad");
-  Mesh sphere = make_sphere(Vec3(0.2f, 0.8f, 0.1f), 0.45f, 10, 20);
-  std::vector<Triangle> kept;
-  for (size_t t = 0; t < sphere.triangles.size(); ++t) {
-    if (t % 19 >= 15) continue;  // holes
-    Triangle tri = sphere.triangles[t];
-    if (t % 3 == 0) std::swap(tri.v[1], tri.v[2]);
-    kept.push_back(tri);
-  }
-  sphere.triangles = kept;
-  sphere.normals.clear();  // flat shading: the fin vertices below have no normals
+  Mesh sphere = test::open_flipped_sphere();  // the fin vertices below get no normals
   const uint32_t a = sphere.triangles[5].v[0], b = sphere.triangles[5].v[1];
   for (int k = 0; k < 3; ++k) {
     sphere.positions.push_back(
@@ -144,17 +135,9 @@ TEST(ShadowVolume, CountsAreCrossingNumbers) {
     const DVec3 o(g.shadow_origin(i)), d = light - o;
     int crossings = 0;
     for (const Mesh& m : f.scene().meshes)
-      for (size_t tri = 0; tri < m.triangle_count(); ++tri) {
-        const DVec3 a(m.vertex(tri, 0)), b(m.vertex(tri, 1)), c(m.vertex(tri, 2));
-        const DVec3 e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
-        const double det = glm::dot(e1, pv);
-        if (std::abs(det) < 1e-300) continue;
-        const DVec3 tv = o - a;
-        const double u = glm::dot(tv, pv) / det;
-        const DVec3 qv = glm::cross(tv, e1);
-        const double v = glm::dot(d, qv) / det, tt = glm::dot(e2, qv) / det;
-        crossings += u >= 0 && v >= 0 && u + v <= 1 && tt > 0 && tt <= 1;
-      }
+      for (size_t tri = 0; tri < m.triangle_count(); ++tri)
+        crossings += test::segment_crosses_triangle(
+            o, d, DVec3(m.vertex(tri, 0)), DVec3(m.vertex(tri, 1)), DVec3(m.vertex(tri, 2)));
     ++checked;
     differ += counts[i] != crossings;
     max_count = std::max(max_count, crossings);

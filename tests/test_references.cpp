@@ -85,18 +85,9 @@ TEST(References, PointLightGivesHardShadowOfBruteForceSegmentTest) {
     const DVec3 o = DVec3(g.shadow_origin(i)), d = DVec3(light) - o;
     bool blocked = false;
     for (const Mesh& m : t.scene->meshes)
-      for (size_t tri = 0; tri < m.triangle_count() && !blocked; ++tri) {
-        // Möller–Trumbore on the segment o + t d, t in (0, 1].
-        const DVec3 a(m.vertex(tri, 0)), b(m.vertex(tri, 1)), c(m.vertex(tri, 2));
-        const DVec3 e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
-        const double det = glm::dot(e1, pv);
-        if (std::abs(det) < 1e-300) continue;
-        const DVec3 tv = o - a;
-        const double u = glm::dot(tv, pv) / det;
-        const DVec3 qv = glm::cross(tv, e1);
-        const double v = glm::dot(d, qv) / det, tt = glm::dot(e2, qv) / det;
-        blocked = u >= 0 && v >= 0 && u + v <= 1 && tt > 0 && tt <= 1;
-      }
+      for (size_t tri = 0; tri < m.triangle_count() && !blocked; ++tri)
+        blocked = test::segment_crosses_triangle(o, d, DVec3(m.vertex(tri, 0)),
+                                                 DVec3(m.vertex(tri, 1)), DVec3(m.vertex(tri, 2)));
     shadowed += blocked;
     differ_exact += (exact.per_light[0].lit[i] < 0.5f) != blocked;
     differ_rt += (rt.per_light[0].lit[i] < 0.5f) != blocked;

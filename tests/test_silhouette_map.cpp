@@ -220,16 +220,7 @@ TEST(SilhouetteMapSoft, SmallSphereLightOnBunny) {
 /// faces in the silhouette pass: every value finite, in [0, 1], both modes.
 TEST(SilhouetteMapDegenerate, OpenMeshAndZeroAreaFacesNoNaN) {
   Scene s = make_builtin_scene("quad");
-  Mesh sphere = make_sphere(Vec3(0.2f, 0.8f, 0.1f), 0.45f, 10, 20);
-  std::vector<Triangle> kept;
-  for (size_t t = 0; t < sphere.triangles.size(); ++t) {
-    if (t % 19 >= 15) continue;  // holes
-    Triangle tri = sphere.triangles[t];
-    if (t % 3 == 0) std::swap(tri.v[1], tri.v[2]);
-    kept.push_back(tri);
-  }
-  sphere.triangles = kept;
-  sphere.normals.clear();
+  Mesh sphere = test::open_flipped_sphere();
   sphere.name = "open";
   sphere.material = 1;
   s.meshes[1] = sphere;

@@ -1,6 +1,7 @@
 // Running methods on small frames of built-in scenes, for tests.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -9,6 +10,7 @@
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/scene/shapes.hpp"
 
 namespace penumbra::test {
 
@@ -24,6 +26,40 @@ struct TestFrame {
     return frame->run(info, resolve_options(info, options), want_masks);
   }
 };
+
+/// Does the segment o → o + d (parameter in (0, 1]) cross triangle abc? Möller–Trumbore in double
+/// precision: the brute-force oracle tests use, independent of every BVH. Optionally returns the
+/// hit's barycentrics (Embree's convention: p = (1−u−v) a + u b + v c).
+inline bool segment_crosses_triangle(const DVec3& o, const DVec3& d, const DVec3& a, const DVec3& b,
+                                     const DVec3& c, double* hit_u = nullptr,
+                                     double* hit_v = nullptr) {
+  const DVec3 e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  if (std::abs(det) < 1e-300) return false;
+  const DVec3 tv = o - a;
+  const double u = glm::dot(tv, pv) / det;
+  const DVec3 qv = glm::cross(tv, e1);
+  const double v = glm::dot(d, qv) / det, t = glm::dot(e2, qv) / det;
+  if (hit_u) *hit_u = u;
+  if (hit_v) *hit_v = v;
+  return u >= 0 && v >= 0 && u + v <= 1 && t > 0 && t <= 1;
+}
+
+/// A sphere with holes (open) and a third of its faces flipped (inconsistent orientation), flat
+/// shaded: the degenerate-topology mesh several tests share.
+inline Mesh open_flipped_sphere() {
+  Mesh sphere = make_sphere(Vec3(0.2f, 0.8f, 0.1f), 0.45f, 10, 20);
+  std::vector<Triangle> kept;
+  for (size_t t = 0; t < sphere.triangles.size(); ++t) {
+    if (t % 19 >= 15) continue;  // holes
+    Triangle tri = sphere.triangles[t];
+    if (t % 3 == 0) std::swap(tri.v[1], tri.v[2]);
+    kept.push_back(tri);
+  }
+  sphere.triangles = kept;
+  sphere.normals.clear();
+  return sphere;
+}
 
 /// One grid sample at the light centre: raytrace's hard shadow, the point the hard methods use.
 inline LightSampleSpec centre_sample() {

@@ -245,17 +245,8 @@ class Wedges final : public ShadowMethod {
     Image<Vec3> rgb;
     v.lit = wedge_visibility(ctx, options_, &st, &rgb);
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
-    v.times.add("silhouettes", st.silhouettes_ms);
-    v.times.add("pass1", st.pass1_ms);
-    v.times.add("wedges", st.wedges_ms);
-    v.times.add("pass2", st.pass2_ms);
-    v.counters["silhouette_edges"] = static_cast<double>(st.silhouette_edges);
-    v.counters["wedges"] = static_cast<double>(st.wedges);
+    report_wedge_stats(st, "pass2", v);
     v.counters["sub_lights"] = static_cast<double>(st.sub_lights);
-    v.counters["pixel_tests"] = static_cast<double>(st.pixel_tests);
-    v.counters["pixels_inside_wedges"] = static_cast<double>(st.pixels_inside);
-    v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
-    v.counters["light_plane_fallbacks"] = static_cast<double>(st.plane_fallbacks);
     return v;
   }
 
@@ -322,6 +313,19 @@ void register_wedges(MethodRegistry& registry) {
     return std::make_unique<Wedges>(w);
   };
   registry.add(std::move(info));
+}
+
+void report_wedge_stats(const WedgeStats& st, const char* pass2_stage, Visibility& v) {
+  v.times.add("silhouettes", st.silhouettes_ms);
+  v.times.add("pass1", st.pass1_ms);
+  v.times.add("wedges", st.wedges_ms);
+  v.times.add(pass2_stage, st.pass2_ms);
+  v.counters["silhouette_edges"] = static_cast<double>(st.silhouette_edges);
+  v.counters["wedges"] = static_cast<double>(st.wedges);
+  v.counters["pixel_tests"] = static_cast<double>(st.pixel_tests);
+  v.counters["pixels_inside_wedges"] = static_cast<double>(st.pixels_inside);
+  v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
+  v.counters["light_plane_fallbacks"] = static_cast<double>(st.plane_fallbacks);
 }
 
 }  // namespace penumbra

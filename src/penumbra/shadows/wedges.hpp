@@ -57,6 +57,10 @@ struct WedgeStats {
   double silhouettes_ms = 0.0, pass1_ms = 0.0, wedges_ms = 0.0, pass2_ms = 0.0;
 };
 
+/// Writes the stage times and counters both wedge methods report into `vis`; the second pass's
+/// stage is named `pass2_stage`.
+void report_wedge_stats(const WedgeStats& stats, const char* pass2_stage, Visibility& vis);
+
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for
 /// other lights) and V = its Rec. 709 luminance ratio; `split` is ignored for such a light.
