@@ -502,6 +502,15 @@ TEST(Wedges, TexturedLightRgbOnQuad) {
   // One group: the per-channel overlap approximation changes nothing.
   const RgbDiff dov = compare_rgb(t, {{"overlap", "true"}});
   for (int c = 0; c < 3; ++c) EXPECT_LE(dov.max_rgb[c], 1.0 / 255.0) << c;
+  // Light splitting [paper IV §5.2] with the texture cut between the sub-lights: still exact for
+  // one planar convex occluder, also when the cuts fall inside texels (2 texels, 3 sub-lights).
+  for (const char* split : {"2", "3"}) {
+    const RgbDiff ds = compare_rgb(t, {{"split", split}});
+    std::printf("    textured quad, split %s: max rgb %.2e %.2e %.2e  lit %.2e  lum %.2e\n", split,
+                ds.max_rgb[0], ds.max_rgb[1], ds.max_rgb[2], ds.max_lit, ds.max_lum);
+    for (int c = 0; c < 3; ++c) EXPECT_LE(ds.max_rgb[c], 1e-5) << split << " channel " << c;
+    EXPECT_LE(ds.max_lum, 1e-5) << split;
+  }
   for (const char* lookup : {"bilinear", "quadrilinear"}) {
     DVec3 prev(1.0);
     for (int n : {16, 32, 64}) {

@@ -150,10 +150,10 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   const PixelSetup setup = pixel_setup(ctx);
   const Vec3 centre = hard_shadow_point(light);
 
-  // Silhouette loops from the light centre, grouped per connected component (Algorithm 4
+  // Silhouette loops from the light centre, grouped per light-facing patch (Algorithm 4
   // line 1, wedge_pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters = make_casters(ctx.scene, true);
+  const Casters casters = make_casters(ctx.scene, Grouping::patch, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.groups = casters.meshes.size();
   ws.silhouette_edges = sil.size();

@@ -2,7 +2,7 @@
 // and its implementation §3.3.3–3.3.4], on the CPU, per G-buffer pixel, on top of the `wedges`
 // machinery (wedge_pass.hpp: same wedges, hard counts, coverage and screen binning).
 //
-// Per caster group (a connected component ≈ a non-overlapping silhouette loop, wedge_pass.hpp)
+// Per caster group (a light-facing patch bounded by its silhouette loops, wedge_pass.hpp)
 // an SV-buffer is built [§3.2.1, Algorithm 5]: the light, seen from the pixel, is cut at its
 // centre into four parts of equal area (§3.2.1: "split the light source by its center, in four
 // parts"); per part it holds

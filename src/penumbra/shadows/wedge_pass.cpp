@@ -66,58 +66,76 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
   return x;
 }
 
-/// Connected components of a mesh's valid faces (sharing a welded vertex), as sub-meshes with
-/// the same positions; empty if there is only one.
-std::vector<std::unique_ptr<Mesh>> split_components(const Mesh& mesh, const MeshEdges& edges) {
-  std::vector<uint32_t> parent(mesh.positions.size());
+/// The light-facing patches of a mesh seen from `centre` (see wedge_pass.hpp), as open sub-meshes
+/// holding only the positions they use. Faces seen edge-on (side 0) block nothing and belong to
+/// no patch.
+std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEdges& edges,
+                                                  const Vec3& centre) {
+  const std::vector<int8_t> sides = face_sides(mesh, edges, centre);
+  // A closed mesh crosses every segment from outside once toward the light per layer pair: its
+  // light-facing faces alone give the count. An open mesh: every face counts, whichever side.
+  const bool closed = edges.closed_manifold();
+  auto kept = [&](size_t f) { return closed ? sides[f] > 0 : sides[f] != 0; };
+  std::vector<uint32_t> parent(edges.faces.size());
   std::iota(parent.begin(), parent.end(), 0u);
-  for (size_t f = 0; f < edges.faces.size(); ++f) {
-    if (!edges.face_valid(f)) continue;
-    const uint32_t r0 = find_root(parent, edges.faces[f][0]);
-    for (int c = 1; c < 3; ++c) {
-      const uint32_t r = find_root(parent, edges.faces[f][c]);
-      if (r != r0) parent[r] = r0;
-    }
+  for (const MeshEdge& e : edges.edges) {
+    if (e.kind != EdgeKind::manifold || e.face_count != 2) continue;
+    const uint32_t f = edges.edge_faces[e.face_begin].face;
+    const uint32_t h = edges.edge_faces[e.face_begin + 1].face;
+    if (!kept(f) || sides[f] != sides[h]) continue;
+    const uint32_t rf = find_root(parent, f), rh = find_root(parent, h);
+    if (rf != rh) parent[rh] = rf;
   }
-  std::vector<int32_t> comp_of_root(parent.size(), -1);
+  std::vector<int32_t> patch_of_root(parent.size(), -1);
   std::vector<std::unique_ptr<Mesh>> out;
+  std::vector<std::vector<uint32_t>> remap;  // per patch: mesh vertex → patch vertex (or ~0u)
   for (size_t f = 0; f < edges.faces.size(); ++f) {
-    if (!edges.face_valid(f)) continue;
-    const uint32_t r = find_root(parent, edges.faces[f][0]);
-    if (comp_of_root[r] < 0) {
-      comp_of_root[r] = static_cast<int32_t>(out.size());
+    if (!edges.face_valid(f) || !kept(f)) continue;
+    const uint32_t r = find_root(parent, static_cast<uint32_t>(f));
+    if (patch_of_root[r] < 0) {
+      patch_of_root[r] = static_cast<int32_t>(out.size());
       auto m = std::make_unique<Mesh>();
       m->name = mesh.name;
-      m->positions = mesh.positions;
       m->material = mesh.material;
       out.push_back(std::move(m));
+      remap.emplace_back();
     }
-    out[comp_of_root[r]]->triangles.push_back(mesh.triangles[f]);
+    Mesh& m = *out[patch_of_root[r]];
+    std::vector<uint32_t>& map = remap[patch_of_root[r]];
+    if (map.empty()) map.assign(mesh.positions.size(), ~0u);
+    Triangle tri{};
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = mesh.triangles[f].v[c];
+      if (map[v] == ~0u) {
+        map[v] = static_cast<uint32_t>(m.positions.size());
+        m.positions.push_back(mesh.positions[v]);
+      }
+      tri.v[c] = map[v];
+    }
+    m.triangles.push_back(tri);
   }
-  if (out.size() <= 1) out.clear();
   return out;
 }
 
 }  // namespace
 
-Casters make_casters(const Scene& scene, bool by_component) {
+Casters make_casters(const Scene& scene, Grouping grouping, const Vec3& centre) {
   Casters c;
   for (const Mesh& mesh : scene.meshes) {
     if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
     MeshEdges edges = build_mesh_edges(mesh);
     std::vector<std::unique_ptr<Mesh>> parts;
-    if (by_component) parts = split_components(mesh, edges);
-    if (parts.empty()) {
+    if (grouping == Grouping::patch) parts = facing_patches(mesh, edges, centre);
+    if (parts.empty()) {  // whole mesh (also: nothing faces the light, e.g. it is inside)
       c.layers.push_back(mesh_layers(edges));
       c.meshes.push_back(&mesh);
       c.edges.push_back(std::move(edges));
       continue;
     }
     for (auto& part : parts) {
-      MeshEdges e = build_mesh_edges(*part);
-      c.layers.push_back(mesh_layers(e));
+      c.layers.push_back(1);  // an open sheet: its count is the number of its faces crossed
+      c.edges.push_back(build_mesh_edges(*part));
       c.meshes.push_back(part.get());
-      c.edges.push_back(std::move(e));
       c.owned.push_back(std::move(part));
     }
   }

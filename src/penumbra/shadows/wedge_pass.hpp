@@ -4,14 +4,23 @@
 // (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
 //
 // Groups. Paper IV §5.1's overlap approximation and Forest §3.2's blending both need the hard
-// count and the wedge coverage of each silhouette loop separately. Our hard count comes from
-// shadow_volume_counts, which counts the triangles of whole meshes, so a loop's own count is only
-// available when its loop is alone in a mesh. We therefore split every caster mesh into its
-// connected components (faces sharing a welded vertex) and treat each component as one group:
-// one group per silhouette loop for convex-ish components (each sphere of `spheres`, the `quad`),
-// and all loops of one component together otherwise (the bunny: one group). Components are
-// disjoint occluders; loops of one component are kept together because their hard counts cannot
-// be separated without the loop's own caps.
+// count and the wedge coverage of each silhouette loop separately (Forest Algorithm 4 line 4:
+// "render_silhouette_shadow_volumes(edges)"). A loop's hard count needs a surface it bounds, so
+// we group by light-facing patch: the faces that face the light centre, connected across
+// manifold edges whose two faces both do (for an open mesh, back-facing faces form patches too:
+// a sheet blocks light from either side). Each patch is an open sheet whose boundary is made of
+// silhouette loops from the light centre, so
+//   - its hard count is the number of its faces the segment to the light centre crosses
+//     (shadow_volume_counts of the patch alone, layers 1), and the patches' counts sum to the
+//     mesh's layered count;
+//   - its wedges are its boundary edges, i.e. every silhouette edge belongs to exactly one patch
+//     (an open fold edge to two, with multiplicity 1 each: the same total).
+// One patch per loop for a convex occluder (each sphere of `spheres`, the `quad`); a patch
+// bounded by several loops (a ring's outer and inner loops, a face region with a back-facing
+// hole) keeps them together because their hard counts cannot be separated; separate parts of one
+// mesh that face the light (the bunny's ear and body) are separate groups, which is what lets
+// blending correct their overlap. A mesh with no light-facing face (the centre inside a closed
+// mesh) stays whole.
 #pragma once
 
 #include <algorithm>
@@ -51,15 +60,17 @@ struct PixelSetup {
 };
 PixelSetup pixel_setup(const ShadowContext& ctx);
 
-/// The caster groups: every caster mesh whole (by_component = false, what plain `wedges` uses) or
-/// split into connected components (see the header comment).
+/// The caster groups: every caster mesh whole (Grouping::mesh, what plain `wedges` uses, layered
+/// counts) or its light-facing patches seen from `centre` (Grouping::patch, see the header
+/// comment).
+enum class Grouping { mesh, patch };
 struct Casters {
-  std::vector<std::unique_ptr<Mesh>> owned;  // split components
+  std::vector<std::unique_ptr<Mesh>> owned;  // patches
   std::vector<const Mesh*> meshes;           // one per group
   std::vector<MeshEdges> edges;
   std::vector<int> layers;
 };
-Casters make_casters(const Scene& scene, bool by_component);
+Casters make_casters(const Scene& scene, Grouping grouping, const Vec3& centre);
 
 /// A silhouette edge from the light centre [paper III §3.1]: weight = multiplicity / layers.
 struct WedgeEdge {

@@ -69,9 +69,10 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   };
 
   // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
-  // approximation, per group (connected component ≈ silhouette loop, wedge_pass.hpp).
+  // approximation, per group (light-facing patch: its silhouette loops, wedge_pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters = make_casters(ctx.scene, options.overlap);
+  const Casters casters =
+      make_casters(ctx.scene, options.overlap ? Grouping::patch : Grouping::mesh, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.silhouette_edges += sil.size();
   st.silhouettes_ms += ms_since(start);
@@ -177,54 +178,103 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
 }  // namespace
 
+namespace {
+
+/// Sub-light (i, j) of an n × n split of a rectangular light [paper IV §5.2].
+Light sub_light(const Light& light, int n, int i, int j) {
+  Light sub = light;
+  sub.edge_u = light.edge_u / static_cast<float>(n);
+  sub.edge_v = light.edge_v / static_cast<float>(n);
+  const Vec3 corner = light.center - 0.5f * (light.edge_u + light.edge_v);
+  sub.center = corner + (static_cast<float>(i) + 0.5f) * sub.edge_u +
+               (static_cast<float>(j) + 0.5f) * sub.edge_v;
+  return sub;
+}
+
+/// The emission texture of sub-light (i, j) of an n × n split, at the texture's own resolution:
+/// sub-texel (sx, sy) covers parent texel units [(i·w + sx)/n, (i·w + sx + 1)/n), which lies in
+/// the single parent texel ⌊(i·w + sx)/n⌋ (likewise in y), so the nearest-texel emission of the
+/// sub-square is reproduced exactly whatever n and the texture size.
+Texture sub_texture(const Texture& t, int n, int i, int j) {
+  if (n == 1 || t.width <= 0 || t.height <= 0 || t.texels.empty()) return t;
+  Texture sub = t;
+  for (int sy = 0; sy < t.height; ++sy) {
+    const int ty = (j * t.height + sy) / n;
+    for (int sx = 0; sx < t.width; ++sx) {
+      const int tx = (i * t.width + sx) / n;
+      for (int c = 0; c < t.channels; ++c)
+        sub.texels[(static_cast<size_t>(sy) * t.width + sx) * t.channels + c] =
+            t.channel(tx, ty, c);
+    }
+  }
+  return sub;
+}
+
+/// A textured rectangular light (issue 4): RGB visibility from the emission-weighted coverage,
+/// exact per pixel (coverage = analytic) or from the RGB coverage table (coverage = texture), per
+/// sub-light of the split, each with its own part of the texture. The sub-lights' per-channel
+/// visible fractions are averaged with their emitted power as weights.
+Image<float> textured_visibility(const ShadowContext& ctx, const PixelSetup& setup,
+                                 const WedgeOptions& options, int n, WedgeStats& st,
+                                 Image<Vec3>* lit_rgb) {
+  const Light& light = ctx.light;
+  if (light.emission_texture >= static_cast<int>(ctx.scene.textures.size()))
+    throw Error("wedges: light '" + light.name + "' names emission texture " +
+                std::to_string(light.emission_texture) + " of " +
+                std::to_string(ctx.scene.textures.size()));
+  const Texture& texture = ctx.scene.textures[light.emission_texture];
+  const GBuffer& g = ctx.gbuffer;
+  Image<DVec3> seen(g.width, g.height, DVec3(0.0));  // Σ_k total_k ⊙ rgb_k
+  DVec3 total(0.0);                                  // Σ_k total_k
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const LightEmission emission(sub_texture(texture, n, i, j), light.radiance);
+      std::unique_ptr<CoverageTextureRGB> table;
+      if (options.texture)
+        table = std::make_unique<CoverageTextureRGB>(options.texture_n, emission);
+      Image<Vec3> part_rgb(g.width, g.height, Vec3(1.0f));
+      visibility_for_light(ctx, n == 1 ? light : sub_light(light, n, i, j), setup, options, st,
+                           RgbLight{&emission, table.get(), &part_rgb});
+      for (size_t k = 0; k < seen.size(); ++k) seen[k] += emission.total * DVec3(part_rgb[k]);
+      total += emission.total;
+    }
+  }
+  Image<float> vis(g.width, g.height, 1.0f);
+  Image<Vec3> rgb(g.width, g.height, Vec3(1.0f));
+  for (size_t k = 0; k < vis.size(); ++k) {
+    DVec3 occluded(0.0);
+    for (int c = 0; c < 3; ++c) occluded[c] = total[c] > 0.0 ? 1.0 - seen[k][c] / total[c] : 0.0;
+    vis[k] = rgb_visibility(occluded, total, rgb[k]);
+  }
+  if (lit_rgb) *lit_rgb = std::move(rgb);
+  return vis;
+}
+
+}  // namespace
+
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options_in,
                               WedgeStats* stats_out, Image<Vec3>* lit_rgb) {
   WedgeStats st;
   WedgeOptions options = options_in;
   const PixelSetup setup = pixel_setup(ctx);
   const Light& light = ctx.light;
-  // Textured rectangular light (issue 4): RGB visibility from the emission-weighted coverage,
-  // exact per pixel (coverage = analytic) or from the RGB coverage table (coverage = texture).
-  if (light.shape == LightShape::rect && light.is_textured()) {
-    if (light.emission_texture >= static_cast<int>(ctx.scene.textures.size()))
-      throw Error("wedges: light '" + light.name + "' names emission texture " +
-                  std::to_string(light.emission_texture) + " of " +
-                  std::to_string(ctx.scene.textures.size()));
-    const LightEmission emission(ctx.scene.textures[light.emission_texture], light.radiance);
-    std::unique_ptr<CoverageTextureRGB> table;
-    if (options.texture) table = std::make_unique<CoverageTextureRGB>(options.texture_n, emission);
-    Image<Vec3> rgb_img(ctx.gbuffer.width, ctx.gbuffer.height, Vec3(1.0f));
-    // Light splitting is not applied: a sub-light would need its own part of the texture.
-    Image<float> vis = visibility_for_light(ctx, light, setup, options, st,
-                                            RgbLight{&emission, table.get(), &rgb_img});
-    st.sub_lights = 1;
-    if (lit_rgb) *lit_rgb = std::move(rgb_img);
-    if (stats_out) *stats_out = st;
-    return vis;
-  }
-  if (options.texture && !options.table)
-    options.table = std::make_shared<const CoverageTexture>(options.texture_n);
   // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
   const int n = light.shape == LightShape::rect ? std::max(1, options.split) : 1;
+  st.sub_lights = static_cast<size_t>(n) * n;
   Image<float> vis;
-  if (n == 1) {
-    vis = visibility_for_light(ctx, light, setup, options, st);
-    st.sub_lights = 1;
+  if (light.shape == LightShape::rect && light.is_textured()) {
+    vis = textured_visibility(ctx, setup, options, n, st, lit_rgb);
   } else {
+    if (options.texture && !options.table)
+      options.table = std::make_shared<const CoverageTexture>(options.texture_n);
     vis = Image<float>(ctx.gbuffer.width, ctx.gbuffer.height, 0.0f);
-    const Vec3 corner = light.center - 0.5f * (light.edge_u + light.edge_v);
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
-        Light sub = light;
-        sub.edge_u = light.edge_u / static_cast<float>(n);
-        sub.edge_v = light.edge_v / static_cast<float>(n);
-        sub.center = corner + (static_cast<float>(i) + 0.5f) * sub.edge_u +
-                     (static_cast<float>(j) + 0.5f) * sub.edge_v;
-        const Image<float> part = visibility_for_light(ctx, sub, setup, options, st);
+        const Image<float> part = visibility_for_light(
+            ctx, n == 1 ? light : sub_light(light, n, i, j), setup, options, st);
         for (size_t k = 0; k < vis.size(); ++k) vis[k] += part[k] / static_cast<float>(n * n);
       }
     }
-    st.sub_lights = static_cast<size_t>(n) * n;
   }
   if (stats_out) *stats_out = st;
   return vis;
@@ -276,7 +326,7 @@ void register_wedges(MethodRegistry& registry) {
       {"overlap",
        OptionType::boolean,
        "false",
-       "overlap approximation (paper IV 5.1, eq. 1): per silhouette loop (connected component) "
+       "overlap approximation (paper IV 5.1, eq. 1): per silhouette loop (light-facing patch) "
        "coverage, combined as max + 1/2 min",
        {},
        0,

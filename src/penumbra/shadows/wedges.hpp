@@ -34,7 +34,7 @@ struct WedgeOptions {
   int split = 1;  // split a rectangular light into split × split sub-lights (paper IV §5.2)
   /// Overlap approximation [paper IV §5.1, eq. 1]: each group's coverage (hard count + its
   /// wedges, clamped) is computed apart and combined as max + ½ min. Groups are connected
-  /// components of the casters (one per silhouette loop for convex-ish parts; wedge_pass.hpp).
+  /// light-facing patches, each bounded by its silhouette loops (wedge_pass.hpp).
   bool overlap = false;
   /// Coverage of a clipped edge on a rectangular light: analytic sector minus triangle, or the 4D
   /// coverage texture of paper III §3.3 (texture_n² × texture_n² entries, `lookup` filtering).
@@ -63,7 +63,8 @@ void report_wedge_stats(const WedgeStats& stats, const char* pass2_stage, Visibi
 
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for
-/// other lights) and V = its Rec. 709 luminance ratio; `split` is ignored for such a light.
+/// other lights) and V = its Rec. 709 luminance ratio; with `split`, each sub-light carries its
+/// own part of the texture and the sub-lights are weighted by their emitted power per channel.
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options,
                               WedgeStats* stats = nullptr, Image<Vec3>* lit_rgb = nullptr);
 
