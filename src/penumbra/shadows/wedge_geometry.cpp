@@ -48,16 +48,16 @@ bool polygon_front_back(PlaneSink& sink, const DVec3& a, const DVec3& d, double 
   if (!(ul > 1e-12 * ext)) return false;
   u /= ul;
   const DVec3 wv = glm::cross(d, u);
+  // The hull's projection along d is convex and holds the centre's (angle 0): unless it holds the
+  // line's, its angles form an interval around 0 shorter than π, inside (−π, π).
   double phi_min = 0.0, phi_max = 0.0;
   for (const DVec3& x : sink.light.hull) {
     const DVec3 y = x - a;
-    const double cu = glm::dot(y, u), cw = glm::dot(y, wv);
-    // Beyond ±(π/2 − margin) the hull wraps around the line: no pair of planes bounds S.
-    if (!(cu > 1e-9 * std::abs(cw))) return false;
-    const double phi = std::atan2(cw, cu);
+    const double phi = std::atan2(glm::dot(y, wv), glm::dot(y, u));
     phi_min = std::min(phi_min, phi);
     phi_max = std::max(phi_max, phi);
   }
+  if (!(phi_max - phi_min < kPi * (1.0 - 1e-9))) return false;  // the hull wraps the line
   // The light lies at angles [φ_min, φ_max]; the plane at angle φ has in-plane normal
   // perp(φ) = −sin φ·u + cos φ·w: −perp(φ_min) and perp(φ_max) put the light behind.
   const DVec3 p_min = -std::sin(phi_min) * u + std::cos(phi_min) * wv;
