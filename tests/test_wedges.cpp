@@ -14,6 +14,7 @@
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/wedge_coverage.hpp"
 #include "penumbra/shadows/wedge_geometry.hpp"
+#include "penumbra/shadows/wedge_pass.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {
@@ -65,6 +66,9 @@ Diff compare(const TestFrame& t, const std::string& method,
   return d;
 }
 
+/// Both wedge constructions (wedge_geometry.hpp): every exactness test runs with each.
+constexpr const char* kConstructions[] = {"paper", "hull"};
+
 void print(const char* what, const Diff& d) {
   std::printf("    %-34s max %.2e  mean(shadowed) %.5f  active %d shadowed %d penumbra %d\n", what,
               d.max_abs, d.mean_abs_shadowed, d.active, d.shadowed, d.penumbra);
@@ -108,10 +112,12 @@ TEST(WedgeCoverage, ClipsHomogeneousSegments) {
 /// and nothing overlaps, so the method is exact up to rounding.
 TEST(Wedges, QuadMatchesExact) {
   const auto t = make_test_frame("quad", 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("quad", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 200);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 200) << c;
+  }
 }
 
 Scene tilted_triangle_scene() {
@@ -127,10 +133,12 @@ Scene tilted_triangle_scene() {
 
 TEST(Wedges, TiltedTriangleMatchesExact) {
   const auto t = make_test_frame(tilted_triangle_scene(), 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("tilted triangle", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 200);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 200) << c;
+  }
 }
 
 TEST(Wedges, DiskLightOnQuadMatchesExact) {
@@ -140,10 +148,12 @@ TEST(Wedges, DiskLightOnQuadMatchesExact) {
   l.radius = 0.5f * glm::length(l.edge_u);
   l.normal = Vec3(0, -1, 0);
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("quad, disk light", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 200);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 200) << c;
+  }
 }
 
 /// A sphere light: `exact` and `wedges` both use the silhouette disk seen from each receiver.
@@ -153,10 +163,12 @@ TEST(Wedges, SphereLightOnQuadMatchesExact) {
   l.shape = LightShape::sphere;
   l.radius = 0.5f * glm::length(l.edge_u);
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("quad, sphere light", d);
-  EXPECT_LE(d.mean_abs_shadowed, 1.0 / 255.0);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.mean_abs_shadowed, 1.0 / 255.0) << c;
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+  }
 }
 
 /// With no light extent there are no wedges: the hard count from the centre is the answer.
@@ -181,10 +193,12 @@ TEST(Wedges, CameraInsideTheShadowVolume) {
   s.camera.target = Vec3(0.9f, 0.0f, 1.1f);
   s.camera.vfov_deg = 70.0f;
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("camera in the shadow volume", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 100);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 100) << c;
+  }
 }
 
 TEST(Wedges, CameraInsideAWedge) {
@@ -196,49 +210,214 @@ TEST(Wedges, CameraInsideAWedge) {
   s.camera.position = Vec3(xmax, quad_corner.y - 0.2f, 0.0f);
   s.camera.target = Vec3(xmax + 0.6f, 0.0f, 0.5f);
   s.camera.vfov_deg = 80.0f;
-  // The camera really is inside the wedge of the quad's edge at x = xmax.
-  const Light& light = s.lights[0];
-  const LightFrame f = light_frame(light, light.center);
-  std::vector<DVec3> hull;
-  for (int k = 0; k < 4; ++k)
-    hull.push_back(DVec3(f.corner) + (k & 1 ? 1.0 : 0.0) * DVec3(f.edge_u) +
-                   (k & 2 ? 1.0 : 0.0) * DVec3(f.edge_v));
+  // The camera really is inside the wedge of the quad's edge at x = xmax, for both constructions.
+  // The quad is parallel to the light and centred under it, so both endpoints are at the same
+  // distance from the light centre: the top edge is the edge, and both constructions give the same
+  // wedge. The edge is parallel to a side of the light, so of each end pyramid's faces facing away
+  // from the other end (paper IV §4.1's "two leftmost and two rightmost triangles") two coincide
+  // with the front and back planes: front, back and one face per end.
+  const WedgeLight light = wedge_pass::wedge_light(s.lights[0]);
   std::vector<DVec3> edge;
   for (const Vec3& p : s.meshes[1].positions)
     if (p.x == xmax) edge.push_back(DVec3(p));
   ASSERT_EQ(edge.size(), 2u);
-  const Wedge w = build_wedge(edge[0], edge[1], 1.0, hull, DVec3(light.center), 1.0);
-  EXPECT_EQ(w.plane_count, 4);
-  EXPECT_TRUE(w.contains(DVec3(s.camera.position)));
+  for (WedgeConstruction c : {WedgeConstruction::paper, WedgeConstruction::hull}) {
+    const Wedge w = build_wedge(edge[0], edge[1], 1.0, light, c, 1.0);
+    EXPECT_EQ(w.plane_count, 4);
+    EXPECT_FALSE(w.degenerate);
+    EXPECT_TRUE(w.contains(DVec3(s.camera.position)));
+  }
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  const Diff d = compare(t, "wedges");
-  print("camera in a wedge", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 100);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 100) << c;
+  }
+}
+
+/// A light of each shape at (0, 2, 0), emitting downward (rect, disk) or all around (sphere).
+Light test_light(LightShape shape) {
+  Light l;
+  l.shape = shape;
+  l.center = Vec3(0.0f, 2.0f, 0.0f);
+  l.edge_u = Vec3(0.6f, 0.0f, 0.0f);
+  l.edge_v = Vec3(0.0f, 0.0f, 0.4f);
+  l.normal = Vec3(0.0f, -1.0f, 0.0f);
+  l.radius = 0.3f;
+  return l;
+}
+
+/// A uniformly random emitting point of the light (for the sphere: any point of the ball, a
+/// superset of every receiver's silhouette disk).
+DVec3 random_light_point(const Light& l, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0), u11(-1.0, 1.0);
+  if (l.shape == LightShape::rect)
+    return DVec3(l.center) + (u01(rng) - 0.5) * DVec3(l.edge_u) +
+           (u01(rng) - 0.5) * DVec3(l.edge_v);
+  for (;;) {
+    const DVec3 p(u11(rng), l.shape == LightShape::disk ? 0.0 : u11(rng), u11(rng));
+    if (glm::dot(p, p) <= 1.0) return DVec3(l.center) + static_cast<double>(l.radius) * p;
+  }
+}
+
+/// Does the segment meet the (one-sided, planar) light? Then points behind its plane are exempt
+/// (wedge_geometry.hpp: the clip to the emitting side).
+bool meets_light(const Light& l, const DVec3& a, const DVec3& b) {
+  const double ha = a.y - l.center.y, hb = b.y - l.center.y;
+  if ((ha > 0.0) == (hb > 0.0) && ha != 0.0 && hb != 0.0) return false;
+  const DVec3 q = a + (ha / (ha - hb)) * (b - a) - DVec3(l.center);
+  if (l.shape == LightShape::disk) return std::hypot(q.x, q.z) <= l.radius * (1.0 + 1e-6);
+  return std::abs(q.x) <= 0.3 + 1e-6 && std::abs(q.z) <= 0.2 + 1e-6;
+}
+
+/// The lemma of wedge_geometry.hpp, sampled: every point x + t(X − x) (x on the light, X on the
+/// edge, t > 1) lies in the wedge, for each light shape and both constructions, for random edges
+/// (below, beside and above the light, crossing its plane, some through the light itself).
+TEST(WedgeGeometry, WedgesContainTheEdgeRegion) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0), pos(-1.5, 1.5);
+  for (LightShape shape : {LightShape::rect, LightShape::disk, LightShape::sphere}) {
+    const Light light = test_light(shape);
+    const WedgeLight wl = wedge_pass::wedge_light(light);
+    int checked = 0, degenerate = 0, through = 0;
+    for (int e = 0; e < 300; ++e) {
+      DVec3 a(pos(rng), 2.0 + pos(rng) * 1.4, pos(rng)),
+          b = a + 0.6 * DVec3(pos(rng), pos(rng), pos(rng));
+      if (e % 25 == 0) {  // through the light: from above to below, across its middle
+        a = DVec3(light.center) + DVec3(0.1 * pos(rng), 0.3, 0.1 * pos(rng));
+        b = DVec3(light.center) + DVec3(0.1 * pos(rng), -0.5, 0.1 * pos(rng));
+      }
+      const bool exempt_behind = shape != LightShape::sphere && meets_light(light, a, b);
+      through += exempt_behind;
+      for (WedgeConstruction c : {WedgeConstruction::paper, WedgeConstruction::hull}) {
+        const Wedge w = build_wedge(a, b, 1.0, wl, c, 10.0);
+        degenerate += w.degenerate;
+        for (int k = 0; k < w.plane_count; ++k) {
+          ASSERT_TRUE(std::isfinite(w.planes[k].d));
+          ASSERT_NEAR(glm::length(w.planes[k].n), 1.0, 1e-9);
+        }
+        for (int s = 0; s < 400; ++s) {
+          const DVec3 x = random_light_point(light, rng), X = a + u01(rng) * (b - a);
+          const double t = 1.0 + 19.0 * u01(rng);
+          const DVec3 y = x + t * (X - x);
+          if (exempt_behind && y.y >= light.center.y) continue;  // behind (emits toward −y)
+          ++checked;
+          ASSERT_TRUE(w.contains(y)) << "shape " << static_cast<int>(shape) << " construction "
+                                     << static_cast<int>(c) << " edge " << e << " t " << t;
+        }
+      }
+    }
+    std::printf(
+        "    shape %d: %d points checked, %d degenerate wedges, %d edges through the light\n",
+        static_cast<int>(shape), checked, degenerate, through);
+    EXPECT_GT(checked, 200000);
+  }
+}
+
+/// An edge touching a one-sided light from its emitting side: the wedge is the emitting
+/// half-space (paper IV §4.1), finite, and holds the region below.
+TEST(WedgeGeometry, EdgeTouchingTheLightGivesAHalfSpace) {
+  for (LightShape shape : {LightShape::rect, LightShape::disk}) {
+    const Light light = test_light(shape);
+    const WedgeLight wl = wedge_pass::wedge_light(light);
+    const DVec3 a = DVec3(light.center) + DVec3(0.05, 0.2, 0.0);
+    const DVec3 b = DVec3(light.center) + DVec3(-0.05, -0.4, 0.02);
+    for (WedgeConstruction c : {WedgeConstruction::paper, WedgeConstruction::hull}) {
+      const Wedge w = build_wedge(a, b, 1.0, wl, c, 10.0);
+      EXPECT_TRUE(w.degenerate);
+      EXPECT_GE(w.plane_count, 1);
+      EXPECT_TRUE(std::isfinite(w.top0.y) && std::isfinite(w.top1.y));
+      EXPECT_GE(std::min(w.top0.y, w.top1.y), light.center.y - 0.4 - 1e-12);
+      EXPECT_LE(std::max(w.top0.y, w.top1.y),
+                light.center.y + 1e-12);  // clipped to the emitting side
+      EXPECT_TRUE(w.contains(DVec3(0.0, 0.0, 0.0)));
+      EXPECT_TRUE(w.contains(DVec3(3.0, 1.9, -2.0)));
+      EXPECT_FALSE(w.contains(DVec3(0.0, 2.1, 0.0)));  // behind the light: outside
+    }
+  }
+}
+
+/// Points of a grid below the light inside the wedges of random edges: paper IV §4.1's wedge for
+/// a rectangle (tangent to its corners, pyramid faces) is tighter than paper III's wedge from the
+/// rectangle's bounding sphere, and `hull` is tighter than `paper`.
+TEST(WedgeGeometry, RectangleWedgesAreTighterThanBoundingSphereWedges) {
+  const Light light = test_light(LightShape::rect);
+  const WedgeLight rect = wedge_pass::wedge_light(light);
+  WedgeLight sphere = rect;
+  sphere.round = true;
+  sphere.radius = 0.5 * std::hypot(0.6, 0.4);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> pos(-1.0, 1.0);
+  uint64_t in_rect = 0, in_sphere = 0, in_hull = 0;
+  for (int e = 0; e < 60; ++e) {
+    const DVec3 a(pos(rng), 1.0 + 0.4 * pos(rng), pos(rng));
+    const DVec3 b = a + 0.5 * DVec3(pos(rng), 0.5 * pos(rng), pos(rng));
+    const Wedge wr = build_wedge(a, b, 1.0, rect, WedgeConstruction::paper, 10.0);
+    const Wedge ws = build_wedge(a, b, 1.0, sphere, WedgeConstruction::paper, 10.0);
+    const Wedge wh = build_wedge(a, b, 1.0, rect, WedgeConstruction::hull, 10.0);
+    for (int i = 0; i < 40; ++i)
+      for (int j = 0; j < 40; ++j)
+        for (int k = 0; k < 8; ++k) {
+          const DVec3 y(-4.0 + 0.2 * i, 0.1 * k, -4.0 + 0.2 * j);
+          in_rect += wr.contains(y);
+          in_sphere += ws.contains(y);
+          in_hull += wh.contains(y);
+        }
+  }
+  std::printf("    grid points inside: rect (paper IV 4.1) %llu, bounding sphere %llu, hull %llu\n",
+              static_cast<unsigned long long>(in_rect), static_cast<unsigned long long>(in_sphere),
+              static_cast<unsigned long long>(in_hull));
+  EXPECT_LT(in_rect, in_sphere);
+  EXPECT_LE(in_hull, in_rect);
+  EXPECT_GT(in_hull, 1000u);
+}
+
+/// Per frame: `hull` (screen bound from the real edge) tests no more pixels than `paper` (top
+/// edge), both exact.
+TEST(Wedges, HullTestsNoMorePixelsThanPaper) {
+  for (const char* name : {"quad", "spheres"}) {
+    const auto t = make_test_frame(name, 64, 64, one_sample());
+    const MethodResult p = t.run("wedges", {{"construction", "paper"}});
+    const MethodResult h = t.run("wedges", {{"construction", "hull"}});
+    const auto& cp = p.per_light[0].counters;
+    const auto& ch = h.per_light[0].counters;
+    std::printf("    %s: pixel tests paper %.0f hull %.0f, inside paper %.0f hull %.0f\n", name,
+                cp.at("pixel_tests"), ch.at("pixel_tests"), cp.at("pixels_inside_wedges"),
+                ch.at("pixels_inside_wedges"));
+    EXPECT_LE(ch.at("pixel_tests"), cp.at("pixel_tests")) << name;
+    EXPECT_LE(ch.at("pixels_inside_wedges"), cp.at("pixels_inside_wedges")) << name;
+    EXPECT_EQ(ch.at("pixels_covered"), cp.at("pixels_covered")) << name;
+    EXPECT_GT(ch.at("pixels_covered"), 100.0) << name;
+  }
 }
 
 /// One planar convex occluder: one group, whose SV-buffer is the exact per-part occlusion, so
 /// blending (Forest §3.2) and the overlap approximation (paper IV §5.1) change nothing.
 TEST(WedgeBlend, QuadMatchesExactAndWedges) {
   const auto t = make_test_frame("quad", 64, 64, one_sample());
-  const Diff d = compare(t, "wedge_blend");
-  const Diff dw = compare(t, "wedge_blend", {}, "wedges");
-  const Diff dov = compare(t, "wedges", {{"overlap", "true"}});
-  print("quad, wedge_blend", d);
-  print("quad, wedge_blend vs wedges", dw);
-  print("quad, overlap", dov);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_LE(dw.max_abs, 1.0 / 255.0);
-  EXPECT_LE(dov.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 200);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedge_blend", {{"construction", c}});
+    const Diff dw = compare(t, "wedge_blend", {{"construction", c}}, "wedges");
+    const Diff dov = compare(t, "wedges", {{"overlap", "true"}, {"construction", c}});
+    print("quad, wedge_blend", d);
+    print("quad, wedge_blend vs wedges", dw);
+    print("quad, overlap", dov);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_LE(dw.max_abs, 1.0 / 255.0) << c;
+    EXPECT_LE(dov.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 200) << c;
+  }
 }
 
 TEST(WedgeBlend, TiltedTriangleMatchesExact) {
   const auto t = make_test_frame(tilted_triangle_scene(), 48, 48, one_sample());
-  const Diff d = compare(t, "wedge_blend");
-  print("tilted triangle, wedge_blend", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
-  EXPECT_GT(d.penumbra, 100);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedge_blend", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+    EXPECT_GT(d.penumbra, 100) << c;
+  }
 }
 
 TEST(WedgeBlend, DiskLightOnQuadMatchesExact) {
@@ -248,9 +427,11 @@ TEST(WedgeBlend, DiskLightOnQuadMatchesExact) {
   l.radius = 0.5f * glm::length(l.edge_u);
   l.normal = Vec3(0, -1, 0);
   const auto t = make_test_frame(std::move(s), 48, 48, one_sample());
-  const Diff d = compare(t, "wedge_blend");
-  print("quad, disk light, wedge_blend", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedge_blend", {{"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+  }
 }
 
 /// Point light: no wedges; blending the groups' hard counts gives the hard shadow.
@@ -270,9 +451,11 @@ TEST(WedgeBlend, PointLightEqualsShadowVolume) {
 /// Light splitting changes nothing where the method is already exact.
 TEST(Wedges, SplitLightStaysExactOnQuad) {
   const auto t = make_test_frame("quad", 48, 48, one_sample());
-  const Diff d = compare(t, "wedges", {{"split", "3"}});
-  print("quad, split 3", d);
-  EXPECT_LE(d.max_abs, 1.0 / 255.0);
+  for (const char* c : kConstructions) {
+    const Diff d = compare(t, "wedges", {{"split", "3"}, {"construction", c}});
+    print(c, d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
+  }
 }
 
 /// Measured (docs/methods/wedges.md): overlapping spheres, where the summed coverage over-darkens,

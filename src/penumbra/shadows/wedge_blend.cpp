@@ -142,7 +142,8 @@ void blend_part(const SvPart& s, VPart& v, double part_area, WedgeBlendStats& st
 
 }  // namespace
 
-Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out) {
+Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
+                                    WedgeConstruction construction) {
   WedgeBlendStats st;
   WedgeStats& ws = st.wedges;
   const GBuffer& g = ctx.gbuffer;
@@ -165,14 +166,15 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   const GroupCounts gcount = group_counts(ctx, casters, centre);
   ws.pass1_ms = ms_since(start);
 
-  const std::vector<DVec3> hull = light_hull_points(light);
+  const WedgeLight wl = wedge_light(light);
   start = std::chrono::steady_clock::now();
   BinnedWedges bw;
-  if (!hull.empty() && !sil.empty() && setup.any_active)
-    bw = build_and_bin(ctx, setup, sil, hull, centre);
+  if (!wl.hull.empty() && !sil.empty() && setup.any_active)
+    bw = build_and_bin(ctx, setup, sil, wl, construction);
   else  // point light: no wedges, the hard counts alone (one empty tile grid)
-    bw = build_and_bin(ctx, setup, {}, hull, centre);
+    bw = build_and_bin(ctx, setup, {}, wl, construction);
   ws.wedges = bw.wedges.size();
+  ws.wedge_fallbacks = bw.degenerate;
   ws.wedges_ms = ms_since(start);
 
   // Algorithm 4 lines 2–7 per pixel: SV-buffer of each group (Algorithm 5), blended into the
@@ -260,16 +262,21 @@ namespace {
 
 class WedgeBlend final : public ShadowMethod {
  public:
+  explicit WedgeBlend(WedgeConstruction construction) : construction_(construction) {}
+
   Visibility compute(const ShadowContext& ctx) override {
     WedgeBlendStats st;
     Visibility v;
-    v.lit = wedge_blend_visibility(ctx, &st);
+    v.lit = wedge_blend_visibility(ctx, &st, construction_);
     report_wedge_stats(st.wedges, "pass2_blend", v);
     v.counters["groups"] = static_cast<double>(st.groups);
     v.counters["part_blends"] = static_cast<double>(st.blends);
     v.counters["part_overlaps"] = static_cast<double>(st.overlaps);
     return v;
   }
+
+ private:
+  WedgeConstruction construction_;
 };
 
 }  // namespace
@@ -282,7 +289,10 @@ void register_wedge_blend(MethodRegistry& registry) {
       "bounding rectangle), blended with the effective overlapped area heuristic";
   info.reference = "[seed 003 Forest thesis §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
   info.sample_exact = false;
-  info.create = [](const MethodOptions&) { return std::make_unique<WedgeBlend>(); };
+  info.options = {wedge_construction_option()};
+  info.create = [](const MethodOptions& o) {
+    return std::make_unique<WedgeBlend>(wedge_construction_of(o));
+  };
   registry.add(std::move(info));
 }
 

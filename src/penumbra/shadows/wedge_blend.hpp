@@ -35,6 +35,7 @@ struct WedgeBlendStats {
 };
 
 /// Visible fraction of ctx.light for every kActive pixel (others 1).
-Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr);
+Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr,
+                                    WedgeConstruction construction = WedgeConstruction::paper);
 
 }  // namespace penumbra

@@ -27,6 +27,26 @@ std::vector<DVec3> light_hull_points(const Light& light) {
   return pts;
 }
 
+WedgeLight wedge_light(const Light& light) {
+  WedgeLight L;
+  L.hull = light_hull_points(light);
+  L.centre = DVec3(hard_shadow_point(light));
+  if (light.shape == LightShape::disk || light.shape == LightShape::sphere) {
+    L.round = true;
+    L.radius = light.radius;
+  }
+  if ((light.shape == LightShape::rect || light.shape == LightShape::disk) && !light.two_sided) {
+    const LightFrame f = light_frame(light, light.center);
+    L.one_sided = true;
+    L.disk = light.shape == LightShape::disk;
+    L.normal = glm::normalize(DVec3(f.emit_normal));
+    L.corner = DVec3(f.corner);
+    L.edge_u = DVec3(f.edge_u);
+    L.edge_v = DVec3(f.edge_v);
+  }
+  return L;
+}
+
 PixelSetup pixel_setup(const ShadowContext& ctx) {
   const GBuffer& g = ctx.gbuffer;
   Camera cam = ctx.scene.camera;
@@ -223,8 +243,8 @@ GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const
 }
 
 BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
-                           const std::vector<WedgeEdge>& sil, const std::vector<DVec3>& hull,
-                           const Vec3& centre) {
+                           const std::vector<WedgeEdge>& sil, const WedgeLight& light,
+                           WedgeConstruction construction) {
   const GBuffer& g = ctx.gbuffer;
   const double scale = std::max(1.0, static_cast<double>(ctx.scene.bounds().diagonal()));
   BinnedWedges bw;
@@ -234,14 +254,17 @@ BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
   std::vector<DVec2> yrange(sil.size());
   parallel_chunks(sil.size(), 64, [&](size_t b, size_t e) {
     for (size_t k = b; k < e; ++k) {
-      bw.wedges[k] = build_wedge(sil[k].from, sil[k].to, sil[k].weight, hull, DVec3(centre), scale);
+      const Wedge& w = bw.wedges[k] =
+          build_wedge(sil[k].from, sil[k].to, sil[k].weight, light, construction, scale);
       bw.group[k] = sil[k].group;
-      hulls[k] = wedge_screen_hull(setup.screen, sil[k].from, sil[k].to, hull);
+      hulls[k] = wedge_screen_hull(setup.screen, w.top0, w.top1, light.hull);
       yrange[k] = DVec2(kInfinity, -kInfinity);
       for (const DVec2& p : hulls[k])
         yrange[k] = DVec2(std::min(yrange[k].x, p.y), std::max(yrange[k].y, p.y));
     }
   });
+
+  for (const Wedge& w : bw.wedges) bw.degenerate += w.degenerate;
 
   // Bin wedges to tiles, one tile row per task (deterministic order: wedge index).
   bw.tiles_x = (g.width + kTile - 1) / kTile;

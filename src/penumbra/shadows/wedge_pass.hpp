@@ -46,6 +46,10 @@ inline constexpr int kTile = 16;  // pixels per tile side: wedges are binned to 
 /// a point light).
 std::vector<DVec3> light_hull_points(const Light& light);
 
+/// The light as the wedge construction sees it (wedge_geometry.hpp): hull points, centre (the
+/// hard-shadow point), bounding sphere of a disk or sphere, plane of a one-sided light.
+WedgeLight wedge_light(const Light& light);
+
 /// 2 for a closed, consistently oriented mesh (every segment crosses it an even number of times),
 /// 1 otherwise.
 inline int mesh_layers(const MeshEdges& e) {
@@ -99,10 +103,13 @@ struct BinnedWedges {
   std::vector<uint32_t> group;  // per wedge
   int tiles_x = 0, tiles_y = 0;
   std::vector<std::vector<uint32_t>> bins;
+  size_t degenerate = 0;  // wedges missing a plane of their construction (wedge_geometry.hpp)
 };
+/// Builds every edge's wedge with `construction` and bins its screen bound (wedge_screen.hpp,
+/// generators: the wedge's top edge) to the tiles.
 BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
-                           const std::vector<WedgeEdge>& edges, const std::vector<DVec3>& hull,
-                           const Vec3& centre);
+                           const std::vector<WedgeEdge>& edges, const WedgeLight& light,
+                           WedgeConstruction construction);
 
 /// Pass-2 counters.
 struct PassCounters {

@@ -5,9 +5,12 @@
 // the wedge's planes exactly (wedge_geometry.hpp), which needs no near-plane or camera-inside-
 // wedge special case (paper III §5.3, Forest §3.1.3): the test is in world space, per point.
 //
-// The region S of an edge (wedge_geometry.hpp) lies in the polyhedron conv{e0, e1} + cone{e_i −
-// x_k} (x_k the light hull points): homogeneous generators (e_i, 1) and (e_i − x_k, 0), i.e. the
-// edge extruded to infinity away from every light point [Forest App. 3.B]. Only points between
+// The region S of an edge (wedge_geometry.hpp) lies in the polyhedron conv{t0, t1} + cone{t_i −
+// x_k} (x_k the light hull points, t0–t1 the wedge's top edge: the edge itself for `hull`, the
+// edge with its farther vertex moved toward the light centre for `paper`, which still holds S
+// because e0 = e0' + (1/s − 1)·(e0' − c) and c is a convex combination of the x_k): homogeneous
+// generators (t_i, 1) and (t_i − x_k, 0), i.e. the top edge extruded to infinity away from every
+// light point [Forest App. 3.B]. Only points between
 // the nearest and farthest G-buffer depths matter, so the polyhedron is cut to that slab of view
 // depths; the extreme points of the cut polyhedron are generators inside the slab and
 // intersections of generator pairs with the slab's planes. Their projections' convex hull bounds
@@ -28,7 +31,8 @@ struct WedgeScreenSetup {
 };
 
 /// The convex hull (counter-clockwise in screen pixels, x right, y down) bounding the projection
-/// of the wedge of edge e0–e1 for the light hull points. Empty if it misses the depth slab.
+/// of the region of top edge e0–e1 (Wedge::top0, top1) for the light hull points. Empty if it
+/// misses the depth slab.
 std::vector<DVec2> wedge_screen_hull(const WedgeScreenSetup& setup, const DVec3& e0,
                                      const DVec3& e1, const std::vector<DVec3>& light_hull);
 

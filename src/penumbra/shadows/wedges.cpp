@@ -139,8 +139,9 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
   // Wedges, their screen hulls and tile bins.
   start = std::chrono::steady_clock::now();
-  const BinnedWedges bw = build_and_bin(ctx, setup, sil, hull, centre);
+  const BinnedWedges bw = build_and_bin(ctx, setup, sil, wedge_light(light), options.construction);
   st.wedges += bw.wedges.size();
+  st.wedge_fallbacks += bw.degenerate;
   st.wedges_ms += ms_since(start);
 
   // Pass 2 [paper III §3.2; Forest Algorithm 3]: per pixel, every wedge of its tile.
@@ -315,6 +316,7 @@ void register_wedges(MethodRegistry& registry) {
   info.reference = "[seed 000 papers III §3, IV §4–5; Forest thesis §3.1, App. 3.B]";
   info.sample_exact = false;
   info.options = {
+      wedge_construction_option(),
       {"split",
        OptionType::integer,
        "1",
@@ -354,6 +356,7 @@ void register_wedges(MethodRegistry& registry) {
   };
   info.create = [](const MethodOptions& o) {
     WedgeOptions w;
+    w.construction = wedge_construction_of(o);
     w.split = o.get_int("split");
     w.overlap = o.get_bool("overlap");
     w.texture = o.get_choice("coverage") == "texture";
@@ -363,6 +366,21 @@ void register_wedges(MethodRegistry& registry) {
     return std::make_unique<Wedges>(w);
   };
   registry.add(std::move(info));
+}
+
+OptionSpec wedge_construction_option() {
+  return {"construction",
+          OptionType::choice,
+          "paper",
+          "penumbra-wedge construction: paper (the farther vertex moved toward the light centre; "
+          "paper III 3.1, and paper IV 4.1's tighter wedge for rectangles) or hull (the tightest "
+          "polyhedral volume of the real edge); both conservative, docs/methods/wedges.md",
+          {"paper", "hull"}};
+}
+
+WedgeConstruction wedge_construction_of(const MethodOptions& o) {
+  return o.get_choice("construction") == "hull" ? WedgeConstruction::hull
+                                                : WedgeConstruction::paper;
 }
 
 void report_wedge_stats(const WedgeStats& st, const char* pass2_stage, Visibility& v) {
@@ -376,6 +394,7 @@ void report_wedge_stats(const WedgeStats& st, const char* pass2_stage, Visibilit
   v.counters["pixels_inside_wedges"] = static_cast<double>(st.pixels_inside);
   v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
   v.counters["light_plane_fallbacks"] = static_cast<double>(st.plane_fallbacks);
+  v.counters["wedge_construction_fallbacks"] = static_cast<double>(st.wedge_fallbacks);
 }
 
 }  // namespace penumbra

@@ -27,10 +27,14 @@
 
 #include "penumbra/shadows/method.hpp"
 #include "penumbra/shadows/wedge_coverage.hpp"
+#include "penumbra/shadows/wedge_geometry.hpp"
 
 namespace penumbra {
 
 struct WedgeOptions {
+  /// The wedge construction [wedge_geometry.hpp]: paper III §3.1 / IV §4.1 (moved vertex), or the
+  /// tightest polyhedral hull of the edge's region.
+  WedgeConstruction construction = WedgeConstruction::paper;
   int split = 1;  // split a rectangular light into split × split sub-lights (paper IV §5.2)
   /// Overlap approximation [paper IV §5.1, eq. 1]: each group's coverage (hard count + its
   /// wedges, clamped) is computed apart and combined as max + ½ min. Groups are connected
@@ -54,12 +58,19 @@ struct WedgeStats {
   uint64_t pixels_inside = 0;    // of those, inside the wedge
   uint64_t pixels_covered = 0;   // of those, with a nonzero coverage (the edge cuts the light)
   uint64_t plane_fallbacks = 0;  // pixels in the light's plane: no coverage (hard count only)
+  size_t wedge_fallbacks = 0;    // wedges missing a plane of their construction (looser)
   double silhouettes_ms = 0.0, pass1_ms = 0.0, wedges_ms = 0.0, pass2_ms = 0.0;
 };
 
 /// Writes the stage times and counters both wedge methods report into `vis`; the second pass's
 /// stage is named `pass2_stage`.
 void report_wedge_stats(const WedgeStats& stats, const char* pass2_stage, Visibility& vis);
+
+struct OptionSpec;
+class MethodOptions;
+/// The `construction` option both wedge methods declare (registry.hpp), and its value.
+OptionSpec wedge_construction_option();
+WedgeConstruction wedge_construction_of(const MethodOptions& options);
 
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for
