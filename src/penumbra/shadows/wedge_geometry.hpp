@@ -97,6 +97,17 @@ struct Wedge {
       if (glm::dot(planes[i].n, x) < planes[i].d - tolerance) return false;
     return true;
   }
+  /// False only if no point of the box [lo, hi] is inside (some plane misses the whole box); an
+  /// empty box (lo > hi) holds nothing.
+  bool may_hold_box(const DVec3& lo, const DVec3& hi) const {
+    if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return false;
+    const DVec3 mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    for (int i = 0; i < plane_count; ++i)
+      if (glm::dot(planes[i].n, mid) + glm::dot(glm::abs(planes[i].n), half) <
+          planes[i].d - tolerance)
+        return false;
+    return true;
+  }
 };
 
 /// Builds the wedge of edge e0 → e1. `scale` sets the test tolerance (≈ 1e-9 × scene size).

@@ -71,6 +71,21 @@ PixelSetup pixel_setup(const ShadowContext& ctx) {
       row_any[y] = 1;
     }
   });
+  s.tiles_x = (g.width + kTile - 1) / kTile;
+  s.tiles_y = (g.height + kTile - 1) / kTile;
+  s.tile_lo.assign(static_cast<size_t>(s.tiles_x) * s.tiles_y, DVec3(kInfinity));
+  s.tile_hi.assign(s.tile_lo.size(), DVec3(-kInfinity));
+  parallel_rows(s.tiles_y, [&](int ty) {
+    for (int y = ty * kTile; y < std::min(g.height, (ty + 1) * kTile); ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * g.width + x;
+        if (ctx.receivers[i] != kActive) continue;
+        const size_t t = static_cast<size_t>(ty) * s.tiles_x + x / kTile;
+        const DVec3 p(g.shadow_origin(i));
+        s.tile_lo[t] = glm::min(s.tile_lo[t], p);
+        s.tile_hi[t] = glm::max(s.tile_hi[t], p);
+      }
+  });
   s.any_active = std::find(row_any.begin(), row_any.end(), 1) != row_any.end();
   if (!s.any_active) return s;
   s.margin = std::ceil(*std::max_element(row_margin.begin(), row_margin.end())) + 1.0;
@@ -283,8 +298,10 @@ BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
       if (tb < 0.0 || ta > bw.tiles_x - 1.0) continue;
       const int a = static_cast<int>(std::max(0.0, ta)),
                 b = static_cast<int>(std::min(bw.tiles_x - 1.0, tb));
-      for (int tx = a; tx <= b; ++tx)
-        bw.bins[static_cast<size_t>(ty) * bw.tiles_x + tx].push_back(k);
+      for (int tx = a; tx <= b; ++tx) {
+        const size_t t = static_cast<size_t>(ty) * bw.tiles_x + tx;
+        if (bw.wedges[k].may_hold_box(setup.tile_lo[t], setup.tile_hi[t])) bw.bins[t].push_back(k);
+      }
     }
   });
   return bw;

@@ -61,6 +61,11 @@ struct PixelSetup {
   WedgeScreenSetup screen;
   double margin = 0.0;  // max offset between a shadow origin's projection and its pixel centre
   bool any_active = false;
+  /// Per kTile × kTile tile (row-major): the world-space box of its active shadow origins (empty:
+  /// lo > hi). A wedge whose planes all miss a tile's box skips the tile — the CPU form of the
+  /// GPU's hierarchical depth culling of wedge fragments [paper IV §4.4].
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<DVec3> tile_lo, tile_hi;
 };
 PixelSetup pixel_setup(const ShadowContext& ctx);
 
