@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "penumbra/shadows/registry.hpp"
@@ -52,16 +53,18 @@ struct Rect {
   }
 };
 
-/// One light part of a V-buffer pixel [Forest Algorithm 6]: occluded fraction and rectangle.
+/// One light part of a V-buffer pixel [Forest Algorithm 6]: occluded fraction of the part's
+/// light (per channel: its emitted power; the channels are equal for an untextured light) and
+/// rectangle.
 struct VPart {
-  double occ = 0.0;
+  DVec3 occ{0.0};
   Rect rect;
 };
 
 /// One light part of an SV-buffer pixel [Forest §3.3.3: occ, brect, outer-edge maxima], plus
 /// what the inner edges need to shrink the rectangle (their maxima and the angle they span).
 struct SvPart {
-  double occ = 0.0;
+  DVec3 occ{0.0};
   Rect rect;
   double outer_s = 0.0, outer_t = 0.0;
   double inner_s = 0.0, inner_t = 0.0, inner_angle = 0.0;
@@ -115,41 +118,91 @@ Rect region_rect(int q, const DVec2& a, const DVec2& b) {
   return r;
 }
 
-/// Algorithm 6 for one part: blends the SV part into the V part with the effective overlapped
-/// area heuristic (eq. 3.1). `part_area` is the part's area in uv units.
-void blend_part(const SvPart& s, VPart& v, double part_area, WedgeBlendStats& st) {
-  if (!(s.occ > 0.0)) return;
-  if (!(v.occ > 0.0)) {
+/// How the blend measures light. Eq. 3.1's A (occluded), B (rectangle) and β (intersection)
+/// are areas for a uniform light; for a textured rectangle each channel measures emitted power
+/// instead (fraction of the channel's total), which reduces to the areas for a uniform texture.
+/// Every share is a fraction of the whole light.
+class LightMeasure {
+ public:
+  LightMeasure(const LightEmission* emission, bool round)
+      : emission_(emission), light_uv_area_(round ? kPi * 0.25 : 1.0) {
+    for (int q = 0; q < kParts; ++q)
+      part_[q] = emission_ ? emission_in_box(*emission_, part_lo(q), part_lo(q) + DVec2(0.5))
+                           : DVec3(1.0 / kParts);
+  }
+  /// Share of the light in part q.
+  const DVec3& part(int q) const { return part_[q]; }
+  /// Share of the light in the part-local rectangle r of part q.
+  DVec3 rect(int q, const Rect& r) const {
+    if (r.empty()) return DVec3(0.0);
+    if (!emission_) return DVec3(r.area() / light_uv_area_);
+    const double u0 = q & 1 ? 0.5 + r.s0 : 0.5 - r.s1, u1 = q & 1 ? 0.5 + r.s1 : 0.5 - r.s0;
+    const double v0 = q & 2 ? 0.5 + r.t0 : 0.5 - r.t1, v1 = q & 2 ? 0.5 + r.t1 : 0.5 - r.t0;
+    return emission_in_box(*emission_, DVec2(u0, v0), DVec2(u1, v1));
+  }
+  /// Share of the light an edge clipped to a part (a, b) adds (outer) or removes (inner).
+  DVec3 edge(const PixelLight& pl, const Wedge& w, const DVec2& a, const DVec2& b) const {
+    if (!emission_) return DVec3(pl.occlusion(w, pl.area(a, b)));
+    const DVec3 f = weighted_sector_minus_triangle(*emission_, a, b);
+    return DVec3(pl.occlusion(w, f.x), pl.occlusion(w, f.y), pl.occlusion(w, f.z));
+  }
+
+ private:
+  const LightEmission* emission_;
+  double light_uv_area_;
+  std::array<DVec3, kParts> part_{};
+};
+
+bool any_positive(const DVec3& v) {
+  return v.x > 0.0 || v.y > 0.0 || v.z > 0.0;
+}
+
+/// Algorithm 6 for part q: blends the SV part into the V part with the effective overlapped area
+/// heuristic (eq. 3.1), per channel.
+void blend_part(const SvPart& s, VPart& v, int q, const LightMeasure& m, WedgeBlendStats& st) {
+  if (!any_positive(s.occ)) return;
+  if (!any_positive(v.occ)) {
     v.occ = s.occ;
     v.rect = s.rect;
     return;
   }
   ++st.blends;
-  double blended = s.occ + v.occ;  // line 7
+  DVec3 blended = s.occ + v.occ;  // line 7
   const Rect inter = Rect::intersection(s.rect, v.rect);
-  const double beta = inter.area();
-  if (beta > 0.0) {  // lines 8–11
+  if (inter.area() > 0.0) {  // lines 8–11
     ++st.overlaps;
-    const double bs = s.rect.area(), bv = v.rect.area();
-    const double ratio_s = std::min(1.0, s.occ * part_area / bs),
-                 ratio_v = std::min(1.0, v.occ * part_area / bv);
-    const double eps = ratio_v * ratio_s * beta;  // eq. 3.1, an area in uv units
-    blended -= eps / part_area;
+    const DVec3 bs = m.rect(q, s.rect), bv = m.rect(q, v.rect), beta = m.rect(q, inter);
+    const DVec3& w = m.part(q);
+    for (int c = 0; c < 3; ++c) {
+      if (!(w[c] > 0.0)) continue;  // the part emits nothing in this channel
+      const double ratio_s = bs[c] > 0.0 ? std::min(1.0, s.occ[c] * w[c] / bs[c]) : 1.0,
+                   ratio_v = bv[c] > 0.0 ? std::min(1.0, v.occ[c] * w[c] / bv[c]) : 1.0;
+      blended[c] -= ratio_v * ratio_s * beta[c] / w[c];  // eq. 3.1, as a share of the part
+    }
   }
-  v.occ = std::clamp(blended, 0.0, 1.0);  // line 13
-  v.rect.add(s.rect);                     // line 14: merge_brect
+  v.occ = glm::clamp(blended, DVec3(0.0), DVec3(1.0));  // line 13
+  v.rect.add(s.rect);                                   // line 14: merge_brect
 }
 
 }  // namespace
 
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
-                                    WedgeConstruction construction) {
+                                    WedgeConstruction construction, Image<Vec3>* lit_rgb) {
   WedgeBlendStats st;
   WedgeStats& ws = st.wedges;
   const GBuffer& g = ctx.gbuffer;
   const Light& light = ctx.light;
   const PixelSetup setup = pixel_setup(ctx);
   const Vec3 centre = hard_shadow_point(light);
+  // A textured rectangular light: every share is emitted power per channel (LightMeasure).
+  std::unique_ptr<LightEmission> emission;
+  if (light.shape == LightShape::rect && light.is_textured())
+    emission = std::make_unique<LightEmission>(emission_texture(ctx.scene, light, "wedge_blend"),
+                                               light.radiance);
+  const LightMeasure measure(emission.get(),
+                             light.shape == LightShape::disk || light.shape == LightShape::sphere);
+  Image<Vec3> rgb_img;
+  if (emission) rgb_img = Image<Vec3>(g.width, g.height, Vec3(1.0f));
 
   // Silhouette loops from the light centre, grouped per light-facing patch (Algorithm 4
   // line 1, wedge_pass.hpp).
@@ -182,8 +235,6 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   start = std::chrono::steady_clock::now();
   PassCounters pc;
   std::vector<WedgeBlendStats> row_stats(bw.tiles_y);
-  const bool round = light.shape == LightShape::disk || light.shape == LightShape::sphere;
-  const double part_area = (round ? kPi * 0.25 : 1.0) / kParts;
   Image<float> vis = run_pass2(
       ctx, light, bw, pc,
       [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, PassCounters& c) {
@@ -195,7 +246,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
               // SV-buffer initialised by the group's hard count (Algorithm 4 line 4).
               std::array<SvPart, kParts> sv{};
               for (SvPart& p : sv) {
-                p.occ = count;
+                p.occ = DVec3(count);
                 if (count > 0.0) p.rect = Rect::full();
               }
               // Algorithm 5, outer half-wedges first (§3.3.3), then inner ones.
@@ -207,10 +258,12 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                   for (int q = 0; q < kParts; ++q) {
                     DVec2 a = e.a, b = e.b;
                     if (!clip_to_part(q, a, b)) continue;  // line 7
-                    const double area = pl->area(a, b);
-                    if (area == 0.0) continue;
+                    if (pl->area(a, b) == 0.0) continue;
                     SvPart& p = sv[q];
-                    p.occ += kParts * pl->occlusion(w, area);  // lines 8, 11, 14
+                    const DVec3 share = measure.edge(*pl, w, a, b);  // line 8
+                    const DVec3& part = measure.part(q);
+                    for (int k = 0; k < 3; ++k)  // lines 11, 14
+                      if (part[k] > 0.0) p.occ[k] += share[k] / part[k];
                     const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
                                  bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
                     if (outer) {  // line 12: increase_brect; outer-edge maxima
@@ -237,13 +290,14 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                   p.rect.t1 =
                       std::max(p.rect.t0, std::min(p.rect.t1, std::max(p.inner_t, p.outer_t)));
                 }
-                p.occ = std::clamp(p.occ, 0.0, 1.0);
-                blend_part(p, vbuf[q], part_area, rs);  // Algorithm 4 line 7
+                p.occ = glm::clamp(p.occ, DVec3(0.0), DVec3(1.0));
+                blend_part(p, vbuf[q], q, measure, rs);  // Algorithm 4 line 7
               }
             });
-        double occ = 0.0;
-        for (const VPart& p : vbuf) occ += p.occ;
-        return static_cast<float>(1.0 - std::clamp(occ / kParts, 0.0, 1.0));
+        DVec3 occ(0.0);
+        for (int q = 0; q < kParts; ++q) occ += measure.part(q) * vbuf[q].occ;
+        if (emission) return rgb_visibility(occ, emission->total, rgb_img[i]);
+        return static_cast<float>(1.0 - std::clamp(occ.x, 0.0, 1.0));
       });
   for (const WedgeBlendStats& r : row_stats) {
     st.blends += r.blends;
@@ -255,6 +309,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   ws.plane_fallbacks = pc.fallbacks;
   ws.pass2_ms = ms_since(start);
   if (stats_out) *stats_out = st;
+  if (lit_rgb && emission) *lit_rgb = std::move(rgb_img);
   return vis;
 }
 
@@ -267,7 +322,9 @@ class WedgeBlend final : public ShadowMethod {
   Visibility compute(const ShadowContext& ctx) override {
     WedgeBlendStats st;
     Visibility v;
-    v.lit = wedge_blend_visibility(ctx, &st, construction_);
+    Image<Vec3> rgb;
+    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb);
+    if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     report_wedge_stats(st.wedges, "pass2_blend", v);
     v.counters["groups"] = static_cast<double>(st.groups);
     v.counters["part_blends"] = static_cast<double>(st.blends);

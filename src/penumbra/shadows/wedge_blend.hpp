@@ -34,8 +34,11 @@ struct WedgeBlendStats {
   uint64_t overlaps = 0;  // of those, with intersecting rectangles (eq. 3.1 applied)
 };
 
-/// Visible fraction of ctx.light for every kActive pixel (others 1).
+/// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
+/// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for other
+/// lights) and V = its Rec. 709 luminance ratio, as `wedges`.
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr,
-                                    WedgeConstruction construction = WedgeConstruction::paper);
+                                    WedgeConstruction construction = WedgeConstruction::paper,
+                                    Image<Vec3>* lit_rgb = nullptr);
 
 }  // namespace penumbra

@@ -320,6 +320,14 @@ DVec3 weighted_region(const LightEmission& em, const DVec2& a, const DVec2& b, i
 
 }  // namespace
 
+DVec3 emission_in_box(const LightEmission& em, const DVec2& lo_in, const DVec2& hi_in) {
+  const DVec2 lo = glm::clamp(lo_in, DVec2(0.0), DVec2(1.0)),
+              hi = glm::clamp(hi_in, DVec2(0.0), DVec2(1.0));
+  if (!(hi.x > lo.x && hi.y > lo.y)) return DVec3(0.0);
+  const DVec2 box[4] = {lo, DVec2(hi.x, lo.y), hi, DVec2(lo.x, hi.y)};
+  return weigh_polygon(em, box, 4);
+}
+
 DVec3 weighted_sector_minus_triangle(const LightEmission& em, const DVec2& a, const DVec2& b) {
   const double tri2 = cross2(a - DVec2(0.5), b - DVec2(0.5));
   if (tri2 == 0.0) return DVec3(0.0);

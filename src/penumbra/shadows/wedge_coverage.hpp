@@ -101,6 +101,10 @@ struct LightEmission {
 /// segment's line (like square_sector_minus_triangle).
 DVec3 weighted_sector_minus_triangle(const LightEmission& emission, const DVec2& a, const DVec2& b);
 
+/// The normalised emission (per channel, fraction of the channel's total) of the uv box [lo, hi]
+/// inside the light square: exact over the texels.
+DVec3 emission_in_box(const LightEmission& emission, const DVec2& lo, const DVec2& hi);
+
 /// The RGB coverage texture for a textured rectangular light (issue 4; paper III §3.3 "also
 /// serves textured lights"): per endpoint pair on the same n × n grid as CoverageTexture, the
 /// unsigned |weighted_sector_minus_triangle| per channel, computed exactly by clipping the region

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/silhouettes.hpp"
 #include "penumbra/shadows/shadow_volume.hpp"
@@ -45,6 +47,27 @@ WedgeLight wedge_light(const Light& light) {
     L.edge_v = DVec3(f.edge_v);
   }
   return L;
+}
+
+const Texture& emission_texture(const Scene& scene, const Light& light, const char* method) {
+  if (light.emission_texture < 0 ||
+      light.emission_texture >= static_cast<int>(scene.textures.size()))
+    throw Error(std::string(method) + ": light '" + light.name + "' names emission texture " +
+                std::to_string(light.emission_texture) + " of " +
+                std::to_string(scene.textures.size()));
+  return scene.textures[light.emission_texture];
+}
+
+float rgb_visibility(const DVec3& occluded, const DVec3& total, Vec3& rgb) {
+  static constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
+  double seen = 0.0, all = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double v = total[c] > 0.0 ? 1.0 - std::clamp(occluded[c], 0.0, 1.0) : 1.0;
+    rgb[c] = static_cast<float>(v);
+    seen += kLum[c] * total[c] * v;
+    all += kLum[c] * total[c];
+  }
+  return all > 0.0 ? static_cast<float>(std::min(1.0, seen / all)) : 1.0f;
 }
 
 PixelSetup pixel_setup(const ShadowContext& ctx) {

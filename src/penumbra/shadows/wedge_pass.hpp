@@ -56,6 +56,15 @@ inline int mesh_layers(const MeshEdges& e) {
   return e.closed_manifold() ? 2 : 1;
 }
 
+/// The emission texture of a textured light; a clear error naming `method` if the light names a
+/// texture the scene does not have.
+const Texture& emission_texture(const Scene& scene, const Light& light, const char* method);
+
+/// V from per-channel occluded fractions (of each channel's emitted power `total`): the
+/// per-channel visible fraction into `rgb`, and their Rec. 709 luminance ratio weighted by the
+/// light's per-channel emission (light_weights.hpp) as the result.
+float rgb_visibility(const DVec3& occluded, const DVec3& total, Vec3& rgb);
+
 /// Per-pixel data shared by all wedges of a frame.
 struct PixelSetup {
   WedgeScreenSetup screen;

@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "penumbra/core/error.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/shadow_volume.hpp"
@@ -35,20 +34,6 @@ struct RgbLight {
   const CoverageTextureRGB* table = nullptr;
   Image<Vec3>* out = nullptr;
 };
-
-/// V from per-channel occluded fractions: the per-channel visible fraction, and their Rec. 709
-/// luminance ratio weighted by the light's per-channel emission (light_weights.hpp).
-float rgb_visibility(const DVec3& occluded, const DVec3& total, Vec3& rgb) {
-  static constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
-  double seen = 0.0, all = 0.0;
-  for (int c = 0; c < 3; ++c) {
-    const double v = total[c] > 0.0 ? 1.0 - std::clamp(occluded[c], 0.0, 1.0) : 1.0;
-    rgb[c] = static_cast<float>(v);
-    seen += kLum[c] * total[c] * v;
-    all += kLum[c] * total[c];
-  }
-  return all > 0.0 ? static_cast<float>(std::min(1.0, seen / all)) : 1.0f;
-}
 
 /// One light (or sub-light): pass 1, silhouettes, wedges, pass 2. Returns V per pixel.
 Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
@@ -219,11 +204,7 @@ Image<float> textured_visibility(const ShadowContext& ctx, const PixelSetup& set
                                  const WedgeOptions& options, int n, WedgeStats& st,
                                  Image<Vec3>* lit_rgb) {
   const Light& light = ctx.light;
-  if (light.emission_texture >= static_cast<int>(ctx.scene.textures.size()))
-    throw Error("wedges: light '" + light.name + "' names emission texture " +
-                std::to_string(light.emission_texture) + " of " +
-                std::to_string(ctx.scene.textures.size()));
-  const Texture& texture = ctx.scene.textures[light.emission_texture];
+  const Texture& texture = emission_texture(ctx.scene, light, "wedges");
   const GBuffer& g = ctx.gbuffer;
   Image<DVec3> seen(g.width, g.height, DVec3(0.0));  // Σ_k total_k ⊙ rgb_k
   DVec3 total(0.0);                                  // Σ_k total_k
