@@ -47,6 +47,18 @@ Scene z_fold_scene() {
   return s;
 }
 
+/// The oracle: every caster mesh whole, with its layer count (the shadow_volume count / layers).
+Casters whole_meshes(const Scene& s) {
+  Casters c;
+  for (const Mesh& mesh : s.meshes) {
+    if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
+    c.meshes.push_back(&mesh);
+    c.edges.push_back(build_mesh_edges(mesh));
+    c.layers.push_back(mesh_layers(c.edges.back()));
+  }
+  return c;
+}
+
 struct Sums {
   size_t groups = 0;
   size_t count_mismatches = 0;  // pixels where Σ group counts ≠ layered count
@@ -74,8 +86,8 @@ Sums compare_groupings(Scene scene, int size) {
   const ShadowContext ctx{s,     t.frame->embree(),  t.frame->gbuffer(),    0,
                           light, t.frame->samples(), t.frame->receivers(0), false};
   const Vec3 centre = hard_shadow_point(light);
-  const Casters whole = make_casters(s, Grouping::mesh, centre);
-  const Casters patches = make_casters(s, Grouping::patch, centre);
+  const Casters whole = whole_meshes(s);
+  const Casters patches = make_casters(s, centre);
   Sums r;
   r.groups = patches.meshes.size();
 
@@ -115,8 +127,8 @@ TEST(WedgeGroups, PatchesAddUpToTheMeshesOnBuiltinScenes) {
 
 TEST(WedgeGroups, ZFoldSplitsIntoItsThreePanels) {
   const Scene s = z_fold_scene();
-  const Casters patches = make_casters(s, Grouping::patch, s.lights[0].center);
-  const Casters whole = make_casters(s, Grouping::mesh, s.lights[0].center);
+  const Casters patches = make_casters(s, s.lights[0].center);
+  const Casters whole = whole_meshes(s);
   // ground (1 patch) + the three panels of the one connected fold.
   EXPECT_EQ(whole.meshes.size(), 2u);
   EXPECT_EQ(patches.meshes.size(), 4u);
@@ -134,7 +146,7 @@ TEST(WedgeGroups, LightInsideAClosedMeshKeepsTheMeshWhole) {
   // Nothing of the box faces a light inside it: the mesh stays one group with its two layers.
   Scene s = make_builtin_scene("quad");
   s.meshes.push_back(make_box(s.lights[0].center, Vec3(0.3f)));
-  const Casters patches = make_casters(s, Grouping::patch, s.lights[0].center);
+  const Casters patches = make_casters(s, s.lights[0].center);
   ASSERT_FALSE(patches.layers.empty());
   EXPECT_EQ(patches.layers.back(), 2);
   EXPECT_EQ(patches.meshes.back(), &s.meshes.back());

@@ -103,41 +103,62 @@ class VolumeBuilder {
 
 }  // namespace
 
-Image<int32_t> shadow_volume_counts(const Scene& scene, const Camera& camera, const GBuffer& g,
-                                    const Image<uint8_t>& receivers, const Vec3& light_point,
-                                    ShadowVolumeStats* stats_out) {
-  ShadowVolumeStats stats;
-  Image<int32_t> counts(g.width, g.height, 0);
+ShadowVolumePixels shadow_volume_pixels(const Camera& camera, const GBuffer& g,
+                                        const Image<uint8_t>& receivers) {
+  ShadowVolumePixels px;
   Camera cam = camera;
   cam.width = g.width;
   cam.height = g.height;
-  const Projection proj = camera_projection(cam);
-  const DVec3 C = proj.eye, L(light_point);
-
-  // Per pixel: q = shadow origin − camera; the screen margin and the near plane from them.
-  auto start = std::chrono::steady_clock::now();
-  std::vector<DVec3> q(g.pixel_count());
+  px.proj = camera_projection(cam);
+  const DVec3 C = px.proj.eye;
+  px.q.resize(g.pixel_count());
   std::atomic<int> any_active{0};
   std::vector<double> row_margin(g.height, 0.0), row_near(g.height, kInfinity);
   parallel_rows(g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       const size_t i = static_cast<size_t>(y) * g.width + x;
       if (receivers[i] != kActive) continue;
-      q[i] = DVec3(g.shadow_origin(i)) - C;
-      const DVec4 c = proj.to_clip(DVec4(q[i] + C, 1.0));
+      px.q[i] = DVec3(g.shadow_origin(i)) - C;
+      const DVec4 c = px.proj.to_clip(DVec4(px.q[i] + C, 1.0));
       if (!(c.w > 0.0)) continue;  // cannot happen for a visible point
-      const DVec3 s = proj.to_screen(c);
+      const DVec3 s = px.proj.to_screen(c);
       row_margin[y] =
           std::max({row_margin[y], std::abs(s.x - (x + 0.5)), std::abs(s.y - (y + 0.5))});
       row_near[y] = std::min(row_near[y], c.w);
       any_active.store(1, std::memory_order_relaxed);
     }
   });
-  if (!any_active.load()) return counts;
-  const double margin = std::ceil(*std::max_element(row_margin.begin(), row_margin.end())) + 1.0;
-  const double near = 0.5 * *std::min_element(row_near.begin(), row_near.end());
-  const double guard = 1.0 + 2.0 * (margin + 1.0) / std::min(g.width, g.height);
+  px.any_active = any_active.load() != 0;
+  if (!px.any_active) return px;
+  px.margin = std::ceil(*std::max_element(row_margin.begin(), row_margin.end())) + 1.0;
+  px.near = 0.5 * *std::min_element(row_near.begin(), row_near.end());
+  px.guard = 1.0 + 2.0 * (px.margin + 1.0) / std::min(g.width, g.height);
+  return px;
+}
 
+Image<int32_t> shadow_volume_counts(const Scene& scene, const Camera& camera, const GBuffer& g,
+                                    const Image<uint8_t>& receivers, const Vec3& light_point,
+                                    ShadowVolumeStats* stats_out) {
+  const auto start = std::chrono::steady_clock::now();
+  const ShadowVolumePixels px = shadow_volume_pixels(camera, g, receivers);
+  const double pixels_ms = ms_since(start);
+  Image<int32_t> counts = shadow_volume_counts(scene, px, g, receivers, light_point, stats_out);
+  if (stats_out) stats_out->edges_ms += pixels_ms;
+  return counts;
+}
+
+Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels& px,
+                                    const GBuffer& g, const Image<uint8_t>& receivers,
+                                    const Vec3& light_point, ShadowVolumeStats* stats_out) {
+  ShadowVolumeStats stats;
+  Image<int32_t> counts(g.width, g.height, 0);
+  if (!px.any_active) return counts;
+  const Projection& proj = px.proj;
+  const DVec3 C = proj.eye, L(light_point);
+  const std::vector<DVec3>& q = px.q;
+  const double margin = px.margin, near = px.near, guard = px.guard;
+
+  auto start = std::chrono::steady_clock::now();
   // Caster vertices (welded), per-face sides and silhouettes.
   std::vector<DVec3> pos;
   struct MeshData {

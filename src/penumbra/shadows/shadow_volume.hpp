@@ -30,7 +30,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
+#include "penumbra/raster/projection.hpp"
 #include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
@@ -55,6 +57,23 @@ inline Vec3 hard_shadow_point(const Light& light) {
 /// by the segment from gbuffer.shadow_origin(i) to light_point. Other pixels hold 0. `camera` must
 /// be the one the G-buffer was rendered with.
 Image<int32_t> shadow_volume_counts(const Scene& scene, const Camera& camera,
+                                    const GBuffer& gbuffer, const Image<uint8_t>& receivers,
+                                    const Vec3& light_point, ShadowVolumeStats* stats = nullptr);
+
+/// The per-pixel part of the count (each shadow origin relative to the camera, the screen margin
+/// and near plane they need), shared by any number of counts on one G-buffer — e.g. one per
+/// caster group (wedge_pass.hpp).
+struct ShadowVolumePixels {
+  Projection proj;
+  std::vector<DVec3> q;  // per pixel: shadow origin − camera (kActive pixels)
+  double margin = 0.0, near = 0.0, guard = 1.0;
+  bool any_active = false;
+};
+ShadowVolumePixels shadow_volume_pixels(const Camera& camera, const GBuffer& gbuffer,
+                                        const Image<uint8_t>& receivers);
+/// shadow_volume_counts with the per-pixel part already computed (for the same camera, G-buffer
+/// and receivers).
+Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels& pixels,
                                     const GBuffer& gbuffer, const Image<uint8_t>& receivers,
                                     const Vec3& light_point, ShadowVolumeStats* stats = nullptr);
 

@@ -207,7 +207,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   // Silhouette loops from the light centre, grouped per light-facing patch (Algorithm 4
   // line 1, wedge_pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters = make_casters(ctx.scene, Grouping::patch, centre);
+  const Casters casters = make_casters(ctx.scene, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.groups = casters.meshes.size();
   ws.silhouette_edges = sil.size();

@@ -177,14 +177,13 @@ std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEd
 
 }  // namespace
 
-Casters make_casters(const Scene& scene, Grouping grouping, const Vec3& centre) {
+Casters make_casters(const Scene& scene, const Vec3& centre) {
   Casters c;
   for (const Mesh& mesh : scene.meshes) {
     if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
     MeshEdges edges = build_mesh_edges(mesh);
-    std::vector<std::unique_ptr<Mesh>> parts;
-    if (grouping == Grouping::patch) parts = facing_patches(mesh, edges, centre);
-    if (parts.empty()) {  // whole mesh (also: nothing faces the light, e.g. it is inside)
+    std::vector<std::unique_ptr<Mesh>> parts = facing_patches(mesh, edges, centre);
+    if (parts.empty()) {  // nothing faces the light (it is inside): the whole mesh, layered
       c.layers.push_back(mesh_layers(edges));
       c.meshes.push_back(&mesh);
       c.edges.push_back(std::move(edges));
@@ -215,13 +214,14 @@ std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& cent
 namespace {
 
 Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
-                         const Vec3& point) {
+                         const Vec3& point, const ShadowVolumePixels* pixels = nullptr) {
   Scene part;
   part.camera = ctx.scene.camera;
   for (const Mesh* m : meshes) {
     part.meshes.push_back(*m);
     part.meshes.back().casts_shadows = true;
   }
+  if (pixels) return shadow_volume_counts(part, *pixels, ctx.gbuffer, ctx.receivers, point);
   return shadow_volume_counts(part, part.camera, ctx.gbuffer, ctx.receivers, point);
 }
 
@@ -256,8 +256,11 @@ GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const
   const size_t n = ctx.gbuffer.pixel_count();
   std::vector<std::vector<std::pair<uint32_t, float>>> per_group(casters.meshes.size());
   std::vector<uint32_t> per_pixel(n + 1, 0);
+  // One pixel setup for all groups (at 2048² it costs more than a small group's own count).
+  const ShadowVolumePixels pixels =
+      shadow_volume_pixels(ctx.scene.camera, ctx.gbuffer, ctx.receivers);
   for (size_t m = 0; m < casters.meshes.size(); ++m) {
-    const Image<int32_t> counts = counts_of(ctx, {casters.meshes[m]}, point);
+    const Image<int32_t> counts = counts_of(ctx, {casters.meshes[m]}, point, &pixels);
     for (size_t i = 0; i < n; ++i) {
       if (counts[i] == 0) continue;
       per_group[m].emplace_back(static_cast<uint32_t>(i),

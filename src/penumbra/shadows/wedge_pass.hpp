@@ -78,17 +78,17 @@ struct PixelSetup {
 };
 PixelSetup pixel_setup(const ShadowContext& ctx);
 
-/// The caster groups: every caster mesh whole (Grouping::mesh, what plain `wedges` uses, layered
-/// counts) or its light-facing patches seen from `centre` (Grouping::patch, see the header
-/// comment).
-enum class Grouping { mesh, patch };
+/// The caster groups: the light-facing patches of every caster mesh seen from `centre` (see the
+/// header comment). Plain `wedges` sums their counts (layered_counts: one count over all of
+/// them, which only visits the light-facing half of a closed mesh's triangles); the overlap
+/// approximation and `wedge_blend` keep them apart (group_counts).
 struct Casters {
   std::vector<std::unique_ptr<Mesh>> owned;  // patches
   std::vector<const Mesh*> meshes;           // one per group
   std::vector<MeshEdges> edges;
   std::vector<int> layers;
 };
-Casters make_casters(const Scene& scene, Grouping grouping, const Vec3& centre);
+Casters make_casters(const Scene& scene, const Vec3& centre);
 
 /// A silhouette edge from the light centre [paper III §3.1]: weight = multiplicity / layers.
 struct WedgeEdge {

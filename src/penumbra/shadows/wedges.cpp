@@ -56,8 +56,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
   // approximation, per group (light-facing patch: its silhouette loops, wedge_pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters =
-      make_casters(ctx.scene, options.overlap ? Grouping::patch : Grouping::mesh, centre);
+  const Casters casters = make_casters(ctx.scene, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.silhouette_edges += sil.size();
   st.silhouettes_ms += ms_since(start);

@@ -9,9 +9,10 @@
 // hard count over-estimates). Visible fraction V = 1 − clamp(count + Σ coverage, 0, 1).
 //
 // Layers. shadow_volume counts triangles crossed, so a closed mesh gives 2 per occluder and its
-// silhouette edges have multiplicity 2; an open sheet gives 1. Each mesh's count and coverages are
-// divided by its layer count (2 for a closed 2-manifold, 1 otherwise), so "1" means "one occluder
-// covers the light" in both cases — what the papers' stencil counts mean for closed meshes.
+// silhouette edges have multiplicity 2; an open sheet gives 1. We count light-facing patches
+// (open sheets, wedge_pass.hpp), so "1" means "one occluder covers the light" for every mesh —
+// what the papers' stencil counts mean for closed meshes; a mesh with nothing facing the light
+// centre is counted whole and divided by its layer count (2 for a closed 2-manifold, 1 otherwise).
 //
 // What it gets right and wrong (measured, docs/methods/wedges.md): exact for one planar convex
 // occluder (paper III §5.3: the silhouette seen from every light point is the one seen from the
