@@ -144,33 +144,38 @@ std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEd
     const uint32_t rf = find_root(parent, f), rh = find_root(parent, h);
     if (rf != rh) parent[rh] = rf;
   }
+  // Faces per patch, then one patch at a time through one vertex map (memory O(vertices)).
   std::vector<int32_t> patch_of_root(parent.size(), -1);
-  std::vector<std::unique_ptr<Mesh>> out;
-  std::vector<std::vector<uint32_t>> remap;  // per patch: mesh vertex → patch vertex (or ~0u)
+  std::vector<std::vector<uint32_t>> patch_faces;
   for (size_t f = 0; f < edges.faces.size(); ++f) {
     if (!edges.face_valid(f) || !kept(f)) continue;
     const uint32_t r = find_root(parent, static_cast<uint32_t>(f));
     if (patch_of_root[r] < 0) {
-      patch_of_root[r] = static_cast<int32_t>(out.size());
-      auto m = std::make_unique<Mesh>();
-      m->name = mesh.name;
-      m->material = mesh.material;
-      out.push_back(std::move(m));
-      remap.emplace_back();
+      patch_of_root[r] = static_cast<int32_t>(patch_faces.size());
+      patch_faces.emplace_back();
     }
-    Mesh& m = *out[patch_of_root[r]];
-    std::vector<uint32_t>& map = remap[patch_of_root[r]];
-    if (map.empty()) map.assign(mesh.positions.size(), ~0u);
-    Triangle tri{};
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t v = mesh.triangles[f].v[c];
-      if (map[v] == ~0u) {
-        map[v] = static_cast<uint32_t>(m.positions.size());
-        m.positions.push_back(mesh.positions[v]);
+    patch_faces[patch_of_root[r]].push_back(static_cast<uint32_t>(f));
+  }
+  std::vector<std::unique_ptr<Mesh>> out;
+  std::vector<uint32_t> local(mesh.positions.size()), stamp(mesh.positions.size(), ~0u);
+  for (uint32_t p = 0; p < patch_faces.size(); ++p) {
+    auto m = std::make_unique<Mesh>();
+    m->name = mesh.name;
+    m->material = mesh.material;
+    for (const uint32_t f : patch_faces[p]) {
+      Triangle tri{};
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = mesh.triangles[f].v[c];
+        if (stamp[v] != p) {
+          stamp[v] = p;
+          local[v] = static_cast<uint32_t>(m->positions.size());
+          m->positions.push_back(mesh.positions[v]);
+        }
+        tri.v[c] = local[v];
       }
-      tri.v[c] = map[v];
+      m->triangles.push_back(tri);
     }
-    m.triangles.push_back(tri);
+    out.push_back(std::move(m));
   }
   return out;
 }
