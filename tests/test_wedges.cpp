@@ -74,6 +74,29 @@ void print(const char* what, const Diff& d) {
               d.max_abs, d.mean_abs_shadowed, d.active, d.shadowed, d.penumbra);
 }
 
+/// `method` (with `options`) against `exact` under every wedge construction: max |Δ| ≤ 1/255, with
+/// more than `min_penumbra` penumbra pixels (so that a real penumbra is being checked).
+void expect_exact_per_construction(const TestFrame& t, const std::string& method, int min_penumbra,
+                                   std::map<std::string, std::string> options = {}) {
+  for (const char* c : kConstructions) {
+    options["construction"] = c;
+    const Diff d = compare(t, method, options);
+    print((method + ", " + c).c_str(), d);
+    EXPECT_LE(d.max_abs, 1.0 / 255.0) << method << ", " << c;
+    EXPECT_GT(d.penumbra, min_penumbra) << method << ", " << c;
+  }
+}
+
+/// `quad` under a disk light inscribed in its square light, facing down.
+Scene disk_light_quad() {
+  Scene s = make_builtin_scene("quad");
+  Light& l = s.lights[0];
+  l.shape = LightShape::disk;
+  l.radius = 0.5f * glm::length(l.edge_u);
+  l.normal = Vec3(0, -1, 0);
+  return s;
+}
+
 TEST(WedgeCoverage, SquareHalfPlaneAboveAChord) {
   // Horizontal segment at v = 0.75 spanning the square, left to right: (c, a, b) is clockwise
   // in uv, and the area beyond it (v > 0.75) is 0.25.
@@ -112,12 +135,7 @@ TEST(WedgeCoverage, ClipsHomogeneousSegments) {
 /// and nothing overlaps, so the method is exact up to rounding.
 TEST(Wedges, QuadMatchesExact) {
   const auto t = make_test_frame("quad", 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 200) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 200);
 }
 
 Scene tilted_triangle_scene() {
@@ -133,27 +151,12 @@ Scene tilted_triangle_scene() {
 
 TEST(Wedges, TiltedTriangleMatchesExact) {
   const auto t = make_test_frame(tilted_triangle_scene(), 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 200) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 200);
 }
 
 TEST(Wedges, DiskLightOnQuadMatchesExact) {
-  Scene s = make_builtin_scene("quad");
-  Light& l = s.lights[0];
-  l.shape = LightShape::disk;
-  l.radius = 0.5f * glm::length(l.edge_u);
-  l.normal = Vec3(0, -1, 0);
-  const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 200) << c;
-  }
+  const auto t = make_test_frame(disk_light_quad(), 64, 64, one_sample());
+  expect_exact_per_construction(t, "wedges", 200);
 }
 
 /// A sphere light: `exact` and `wedges` both use the silhouette disk seen from each receiver.
@@ -163,12 +166,7 @@ TEST(Wedges, SphereLightOnQuadMatchesExact) {
   l.shape = LightShape::sphere;
   l.radius = 0.5f * glm::length(l.edge_u);
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.mean_abs_shadowed, 1.0 / 255.0) << c;
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 100);
 }
 
 /// With no light extent there are no wedges: the hard count from the centre is the answer.
@@ -193,12 +191,7 @@ TEST(Wedges, CameraInsideTheShadowVolume) {
   s.camera.target = Vec3(0.9f, 0.0f, 1.1f);
   s.camera.vfov_deg = 70.0f;
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 100) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 100);
 }
 
 TEST(Wedges, CameraInsideAWedge) {
@@ -228,12 +221,7 @@ TEST(Wedges, CameraInsideAWedge) {
     EXPECT_TRUE(w.contains(DVec3(s.camera.position)));
   }
   const auto t = make_test_frame(std::move(s), 64, 64, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 100) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 100);
 }
 
 /// A light of each shape at (0, 2, 0), emitting downward (rect, disk) or all around (sphere).
@@ -412,26 +400,12 @@ TEST(WedgeBlend, QuadMatchesExactAndWedges) {
 
 TEST(WedgeBlend, TiltedTriangleMatchesExact) {
   const auto t = make_test_frame(tilted_triangle_scene(), 48, 48, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedge_blend", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-    EXPECT_GT(d.penumbra, 100) << c;
-  }
+  expect_exact_per_construction(t, "wedge_blend", 100);
 }
 
 TEST(WedgeBlend, DiskLightOnQuadMatchesExact) {
-  Scene s = make_builtin_scene("quad");
-  Light& l = s.lights[0];
-  l.shape = LightShape::disk;
-  l.radius = 0.5f * glm::length(l.edge_u);
-  l.normal = Vec3(0, -1, 0);
-  const auto t = make_test_frame(std::move(s), 48, 48, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedge_blend", {{"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-  }
+  const auto t = make_test_frame(disk_light_quad(), 48, 48, one_sample());
+  expect_exact_per_construction(t, "wedge_blend", 100);
 }
 
 /// Point light: no wedges; blending the groups' hard counts gives the hard shadow.
@@ -451,11 +425,7 @@ TEST(WedgeBlend, PointLightEqualsShadowVolume) {
 /// Light splitting changes nothing where the method is already exact.
 TEST(Wedges, SplitLightStaysExactOnQuad) {
   const auto t = make_test_frame("quad", 48, 48, one_sample());
-  for (const char* c : kConstructions) {
-    const Diff d = compare(t, "wedges", {{"split", "3"}, {"construction", c}});
-    print(c, d);
-    EXPECT_LE(d.max_abs, 1.0 / 255.0) << c;
-  }
+  expect_exact_per_construction(t, "wedges", 100, {{"split", "3"}});
 }
 
 /// Measured (docs/methods/wedges.md): overlapping spheres, where the summed coverage over-darkens,
