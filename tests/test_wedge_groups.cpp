@@ -5,7 +5,9 @@
 // groups' silhouette edges carry the same signed weight per edge as the meshes'.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <map>
 #include <utility>
@@ -140,6 +142,41 @@ TEST(WedgeGroups, DegenerateTopologyAddsUp) {
   Scene s = make_builtin_scene("quad");
   s.meshes[1] = test::open_flipped_sphere();
   expect_groups_add_up("open flipped sphere", std::move(s), 3);
+}
+
+/// A closed mesh with a hole (one triangle missing, facing away from the light) still counts as a
+/// solid for the wedge methods (solid_for_wedges): the same light-facing patches, and the same
+/// `wedges` answer, as the closed mesh. Counted as an open sheet it would have two layers
+/// everywhere and every silhouette edge's coverage twice.
+TEST(WedgeGroups, MeshWithAHoleCountsAsASolid) {
+  Scene closed = make_builtin_scene("spheres");
+  Scene holed = closed;
+  Mesh& m = holed.meshes[1];
+  size_t lowest = 0;
+  float lowest_y = kInfinity;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const float y = m.vertex(t, 0).y + m.vertex(t, 1).y + m.vertex(t, 2).y;
+    if (y < lowest_y) lowest_y = y, lowest = t;
+  }
+  m.triangles.erase(m.triangles.begin() + static_cast<std::ptrdiff_t>(lowest));
+  const MeshEdges edges = build_mesh_edges(m);
+  ASSERT_EQ(edges.boundary_edges, 3u);
+  EXPECT_FALSE(edges.closed_manifold());
+  EXPECT_TRUE(solid_for_wedges(edges));
+  const Vec3 centre = closed.lights[0].center;
+  EXPECT_EQ(make_casters(holed, centre).meshes.size(), make_casters(closed, centre).meshes.size());
+
+  const test::TestFrame tc =
+      test::make_test_frame(std::move(closed), 64, 64, test::centre_sample());
+  const test::TestFrame th = test::make_test_frame(std::move(holed), 64, 64, test::centre_sample());
+  const MethodResult rc = tc.run("wedges"), rh = th.run("wedges");
+  const Image<float>& vc = rc.per_light[0].lit;
+  const Image<float>& vh = rh.per_light[0].lit;
+  double max_diff = 0.0;
+  for (size_t i = 0; i < vc.size(); ++i)
+    max_diff = std::max(max_diff, std::abs(static_cast<double>(vc[i]) - vh[i]));
+  std::printf("    spheres with a hole vs closed, wedges: max |dV| %.2e\n", max_diff);
+  EXPECT_LE(max_diff, 1e-6);
 }
 
 TEST(WedgeGroups, LightInsideAClosedMeshKeepsTheMeshWhole) {

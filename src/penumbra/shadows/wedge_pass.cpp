@@ -132,7 +132,7 @@ std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEd
   const std::vector<int8_t> sides = face_sides(mesh, edges, centre);
   // A closed mesh crosses every segment from outside once toward the light per layer pair: its
   // light-facing faces alone give the count. An open mesh: every face counts, whichever side.
-  const bool closed = edges.closed_manifold();
+  const bool closed = solid_for_wedges(edges);
   auto kept = [&](size_t f) { return closed ? sides[f] > 0 : sides[f] != 0; };
   std::vector<uint32_t> parent(edges.faces.size());
   std::iota(parent.begin(), parent.end(), 0u);
