@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/pipeline/shading.hpp"
 #include "penumbra/render/receivers.hpp"
 
 namespace penumbra {
@@ -14,6 +16,21 @@ Frame::Frame(const Scene& scene, const LightSampleSpec& samples)
   gbuffer_ = render_gbuffer(*embree_, scene.camera);
   gbuffer_ms_ = elapsed_ms(start);
   for (const Light& light : scene.lights) receivers_.push_back(classify_receivers(gbuffer_, light));
+  unshadowed_ = std::make_unique<UnshadowedCache>(scene.lights.size());
+}
+
+const Image<Vec3>& Frame::unshadowed(size_t light) const {
+  std::call_once(unshadowed_->once.at(light), [&] {
+    Image<Vec3> e(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
+    parallel_rows(gbuffer_.height, [&](int y) {
+      for (int x = 0; x < gbuffer_.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * gbuffer_.width + x;
+        if (receivers_[light][i] == kActive) e[i] = unshadowed_irradiance(*this, light, i);
+      }
+    });
+    unshadowed_->images[light] = std::move(e);
+  });
+  return unshadowed_->images[light];
 }
 
 MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -37,13 +38,25 @@ class Frame {
   /// replaces any non-finite value by failing loudly (never a NaN pixel in an output).
   MethodResult run(const MethodInfo& info, const MethodOptions& options, bool want_masks) const;
 
+  /// The unshadowed irradiance of light `light` at every kActive pixel (0 elsewhere;
+  /// shading.hpp's unshadowed_irradiance), computed on first use and kept: it does not depend on
+  /// the method, so every method's beauty image shares it. Thread-safe.
+  const Image<Vec3>& unshadowed(size_t light) const;
+
  private:
+  struct UnshadowedCache {
+    explicit UnshadowedCache(size_t lights) : once(lights), images(lights) {}
+    std::vector<std::once_flag> once;
+    std::vector<Image<Vec3>> images;
+  };
+
   const Scene* scene_;
   std::unique_ptr<EmbreeScene> embree_;
   GBuffer gbuffer_;
   LightSamples samples_;
   std::vector<Image<uint8_t>> receivers_;
   double gbuffer_ms_ = 0.0;
+  std::unique_ptr<UnshadowedCache> unshadowed_;
 };
 
 }  // namespace penumbra

@@ -75,6 +75,9 @@ Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_
   const GBuffer& g = frame.gbuffer();
   const float exposure = auto_exposure(frame);
   Image<Vec3> out(g.width, g.height, kBackgroundRadiance * exposure);
+  // Before the parallel loop: computed once per frame and light, shared by every method.
+  std::vector<const Image<Vec3>*> unshadowed;
+  for (size_t l = 0; l < scene.lights.size(); ++l) unshadowed.push_back(&frame.unshadowed(l));
   parallel_rows(g.height, [&](int y) {
     std::vector<Vec2> light_uv(frame.samples().count());
     for (int x = 0; x < g.width; ++x) {
@@ -104,7 +107,7 @@ Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_
             irradiance += sum * (frame_area(f) * f.uv_area() / static_cast<float>(emitting));
         } else {
           const Vec3 visible = vis.lit_rgb ? (*vis.lit_rgb)[i] : Vec3(vis.lit[i]);
-          irradiance += visible * unshadowed_irradiance(frame, l, i);
+          irradiance += visible * (*unshadowed[l])[i];
         }
       }
       const Vec3 radiance = albedo * (irradiance / static_cast<float>(kPi) + scene.ambient);

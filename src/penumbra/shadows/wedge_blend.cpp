@@ -100,19 +100,17 @@ bool clip_to_part(int q, DVec2& a, DVec2& b) {
   return true;
 }
 
-/// Bounding rectangle (part-local) of the region of part q between the segment a→b and the
-/// part's boundary inside the sector from the centre spanned by a and b [Forest fig. 3.6]: the
-/// part box clipped by the sector's two half-planes, without the centre, plus a and b. For round
-/// lights this bounds the square part's region, a superset of the disk part's.
-Rect region_rect(int q, const DVec2& a, const DVec2& b) {
+/// Bounding rectangle (part-local) of the region of a part between the segment a→b and the
+/// part's boundary inside the sector from the centre spanned by a and b [Forest fig. 3.6], from
+/// `poly`, the part box clipped by the sector (clip_box_to_sector): its vertices without the
+/// centre, plus a and b. For round lights this bounds the square part's region, a superset of the
+/// disk part's.
+Rect region_rect(const DVec2* poly, int n, const DVec2& a, const DVec2& b) {
   const DVec2 c(0.5);
   Rect r;
   auto add_uv = [&](const DVec2& p) { r.add(std::abs(p.x - 0.5), std::abs(p.y - 0.5)); };
   add_uv(a);
   add_uv(b);
-  DVec2 poly[8];
-  const DVec2 lo = part_lo(q);
-  const int n = clip_box_to_sector(lo, lo + DVec2(0.5), a, b, poly);
   for (int i = 0; i < n && n >= 3; ++i)
     if (glm::dot(poly[i] - c, poly[i] - c) > 1e-24) add_uv(poly[i]);
   return r;
@@ -140,9 +138,11 @@ class LightMeasure {
     const double v0 = q & 2 ? 0.5 + r.t0 : 0.5 - r.t1, v1 = q & 2 ? 0.5 + r.t1 : 0.5 - r.t0;
     return emission_in_box(*emission_, DVec2(u0, v0), DVec2(u1, v1));
   }
-  /// Share of the light an edge clipped to a part (a, b) adds (outer) or removes (inner).
-  DVec3 edge(const PixelLight& pl, const Wedge& w, const DVec2& a, const DVec2& b) const {
-    if (!emission_) return DVec3(pl.occlusion(w, pl.area(a, b)));
+  /// Share of the light an edge clipped to a part (a, b; its uv sector-minus-triangle `uv_area`)
+  /// adds (outer) or removes (inner).
+  DVec3 edge(const PixelLight& pl, const Wedge& w, const DVec2& a, const DVec2& b,
+             double uv_area) const {
+    if (!emission_) return DVec3(pl.occlusion(w, uv_area));
     const DVec3 f = weighted_sector_minus_triangle(*emission_, a, b);
     return DVec3(pl.occlusion(w, f.x), pl.occlusion(w, f.y), pl.occlusion(w, f.z));
   }
@@ -258,16 +258,24 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                   for (int q = 0; q < kParts; ++q) {
                     DVec2 a = e.a, b = e.b;
                     if (!clip_to_part(q, a, b)) continue;  // line 7
-                    if (pl->area(a, b) == 0.0) continue;
+                    // The sector from the centre through a, b lies in part q: its part of the
+                    // square is the part box clipped to it, which gives both the square's
+                    // sector-minus-triangle and the rectangle.
+                    DVec2 poly[8];
+                    const int n =
+                        clip_box_to_sector(part_lo(q), part_lo(q) + DVec2(0.5), a, b, poly);
+                    const double area = pl->round() ? disk_sector_minus_triangle(a, b)
+                                                    : sector_minus_triangle_of(poly, n, a, b);
+                    if (area == 0.0) continue;
                     SvPart& p = sv[q];
-                    const DVec3 share = measure.edge(*pl, w, a, b);  // line 8
+                    const DVec3 share = measure.edge(*pl, w, a, b, area);  // line 8
                     const DVec3& part = measure.part(q);
                     for (int k = 0; k < 3; ++k)  // lines 11, 14
                       if (part[k] > 0.0) p.occ[k] += share[k] / part[k];
                     const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
                                  bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
                     if (outer) {  // line 12: increase_brect; outer-edge maxima
-                      p.rect.add(region_rect(q, a, b));
+                      p.rect.add(region_rect(poly, n, a, b));
                       p.outer_s = std::max({p.outer_s, as, bs});
                       p.outer_t = std::max({p.outer_t, at, bt});
                     } else {  // line 15: decrease_brect (below)

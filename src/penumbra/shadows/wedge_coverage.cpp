@@ -99,12 +99,15 @@ int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const D
 }
 
 double square_sector_minus_triangle(const DVec2& a, const DVec2& b) {
-  const DVec2 c(0.5);
-  const double tri2 = cross2(a - c, b - c);  // twice the signed triangle area
-  if (tri2 == 0.0) return 0.0;
   DVec2 poly[8];
   const int n = clip_box_to_sector(DVec2(0.0), DVec2(1.0), a, b, poly);
-  if (n < 3) return 0.0;
+  return sector_minus_triangle_of(poly, n, a, b);
+}
+
+double sector_minus_triangle_of(const DVec2* poly, int n, const DVec2& a, const DVec2& b) {
+  const DVec2 c(0.5);
+  const double tri2 = cross2(a - c, b - c);  // twice the signed triangle area
+  if (tri2 == 0.0 || n < 3) return 0.0;
   const double s = tri2 > 0.0 ? 1.0 : -1.0;
   double area2 = 0.0;
   for (int i = 0; i < n; ++i) area2 += cross2(poly[i], poly[(i + 1) % n]);

@@ -42,6 +42,9 @@ int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const D
 /// area(square ∩ sector) − area(c, a, b) [paper IV §4.2.2]. Positive when (c, a, b) turns
 /// counter-clockwise, negative when clockwise, 0 when c is on the segment's line.
 double square_sector_minus_triangle(const DVec2& a, const DVec2& b);
+/// The same from the polygon clip_box_to_sector gave for a box holding the sector's part of the
+/// square (the square itself, or the quadrant at c the segment lies in).
+double sector_minus_triangle_of(const DVec2* poly, int n, const DVec2& a, const DVec2& b);
 
 /// The same for the inscribed disk: (r²·angle(a, b) − cross(a − c, b − c)) / 2 with r = 0.5
 /// [paper IV §4.2.1].
