@@ -216,7 +216,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
 
   // Algorithm 4 line 4: each group's hard shadow from its own shadow volume.
   start = std::chrono::steady_clock::now();
-  const GroupCounts gcount = group_counts(ctx, casters, centre);
+  const GroupCounts gcount = group_counts(ctx, casters, centre, &setup.volume);
   ws.pass1_ms = ms_since(start);
 
   const WedgeLight wl = wedge_light(light);

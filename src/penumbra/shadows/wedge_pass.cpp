@@ -110,6 +110,7 @@ PixelSetup pixel_setup(const ShadowContext& ctx) {
       }
   });
   s.any_active = std::find(row_any.begin(), row_any.end(), 1) != row_any.end();
+  s.volume = shadow_volume_pixels(ctx.scene.camera, g, ctx.receivers);
   if (!s.any_active) return s;
   s.margin = std::ceil(*std::max_element(row_margin.begin(), row_margin.end())) + 1.0;
   s.screen.near_depth = 0.5 * *std::min_element(row_near.begin(), row_near.end());
@@ -182,16 +183,26 @@ std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEd
 
 }  // namespace
 
-Casters make_casters(const Scene& scene, const Vec3& centre) {
-  Casters c;
+CasterMeshes caster_meshes(const Scene& scene) {
+  CasterMeshes c;
   for (const Mesh& mesh : scene.meshes) {
     if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
-    MeshEdges edges = build_mesh_edges(mesh);
+    c.meshes.push_back(&mesh);
+    c.edges.push_back(build_mesh_edges(mesh));
+  }
+  return c;
+}
+
+Casters make_casters(const CasterMeshes& meshes, const Vec3& centre) {
+  Casters c;
+  for (size_t k = 0; k < meshes.meshes.size(); ++k) {
+    const Mesh& mesh = *meshes.meshes[k];
+    const MeshEdges& edges = meshes.edges[k];
     std::vector<std::unique_ptr<Mesh>> parts = facing_patches(mesh, edges, centre);
     if (parts.empty()) {  // nothing faces the light (it is inside): the whole mesh, layered
       c.layers.push_back(mesh_layers(edges));
       c.meshes.push_back(&mesh);
-      c.edges.push_back(std::move(edges));
+      c.edges.push_back(edges);
       continue;
     }
     for (auto& part : parts) {
@@ -202,6 +213,10 @@ Casters make_casters(const Scene& scene, const Vec3& centre) {
     }
   }
   return c;
+}
+
+Casters make_casters(const Scene& scene, const Vec3& centre) {
+  return make_casters(caster_meshes(scene), centre);
 }
 
 std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& centre) {
@@ -232,7 +247,8 @@ Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<const Mesh*
 
 }  // namespace
 
-Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point) {
+Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
+                            const ShadowVolumePixels* pixels) {
   const GBuffer& g = ctx.gbuffer;
   Image<float> out(g.width, g.height, 0.0f);
   for (int l : {1, 2}) {
@@ -244,12 +260,13 @@ Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, co
     if (!any) continue;
     Image<int32_t> counts;
     if (all && casters.owned.empty()) {
-      counts = shadow_volume_counts(ctx.scene, ctx.scene.camera, g, ctx.receivers, point);
+      counts = pixels ? shadow_volume_counts(ctx.scene, *pixels, g, ctx.receivers, point)
+                      : shadow_volume_counts(ctx.scene, ctx.scene.camera, g, ctx.receivers, point);
     } else {
       std::vector<const Mesh*> part;
       for (size_t m = 0; m < casters.meshes.size(); ++m)
         if (casters.layers[m] == l) part.push_back(casters.meshes[m]);
-      counts = counts_of(ctx, part, point);
+      counts = counts_of(ctx, part, point, pixels);
     }
     for (size_t i = 0; i < counts.size(); ++i)
       out[i] += static_cast<float>(counts[i]) / static_cast<float>(l);
@@ -257,13 +274,15 @@ Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, co
   return out;
 }
 
-GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point) {
+GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
+                         const ShadowVolumePixels* pixels_in) {
   const size_t n = ctx.gbuffer.pixel_count();
   std::vector<std::vector<std::pair<uint32_t, float>>> per_group(casters.meshes.size());
   std::vector<uint32_t> per_pixel(n + 1, 0);
   // One pixel setup for all groups (at 2048² it costs more than a small group's own count).
-  const ShadowVolumePixels pixels =
-      shadow_volume_pixels(ctx.scene.camera, ctx.gbuffer, ctx.receivers);
+  ShadowVolumePixels own;
+  if (!pixels_in) own = shadow_volume_pixels(ctx.scene.camera, ctx.gbuffer, ctx.receivers);
+  const ShadowVolumePixels& pixels = pixels_in ? *pixels_in : own;
   for (size_t m = 0; m < casters.meshes.size(); ++m) {
     const Image<int32_t> counts = counts_of(ctx, {casters.meshes[m]}, point, &pixels);
     for (size_t i = 0; i < n; ++i) {

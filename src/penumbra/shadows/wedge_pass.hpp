@@ -35,6 +35,7 @@
 #include "penumbra/scene/edges.hpp"
 #include "penumbra/shadows/exact_projection.hpp"
 #include "penumbra/shadows/method.hpp"
+#include "penumbra/shadows/shadow_volume.hpp"
 #include "penumbra/shadows/wedge_coverage.hpp"
 #include "penumbra/shadows/wedge_geometry.hpp"
 #include "penumbra/shadows/wedge_screen.hpp"
@@ -90,6 +91,8 @@ struct PixelSetup {
   /// GPU's hierarchical depth culling of wedge fragments [paper IV §4.4].
   int tiles_x = 0, tiles_y = 0;
   std::vector<DVec3> tile_lo, tile_hi;
+  /// The per-pixel part of the hard counts, shared by every (sub-)light and group.
+  ShadowVolumePixels volume;
 };
 PixelSetup pixel_setup(const ShadowContext& ctx);
 
@@ -103,6 +106,14 @@ struct Casters {
   std::vector<MeshEdges> edges;
   std::vector<int> layers;
 };
+/// The caster meshes of a scene with their edge adjacency: built once per frame, shared by every
+/// (sub-)light's make_casters.
+struct CasterMeshes {
+  std::vector<const Mesh*> meshes;
+  std::vector<MeshEdges> edges;
+};
+CasterMeshes caster_meshes(const Scene& scene);
+Casters make_casters(const CasterMeshes& meshes, const Vec3& centre);
 Casters make_casters(const Scene& scene, const Vec3& centre);
 
 /// A silhouette edge from the light centre [paper III §3.1]: weight = multiplicity / layers.
@@ -115,7 +126,9 @@ struct WedgeEdge {
 std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& centre);
 
 /// Pass 1 [paper III §3.2, Forest Algorithm 3 line 1] over all groups: Σ count / layers.
-Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point);
+/// `pixels`: the shared per-pixel setup (PixelSetup::volume), computed here when null.
+Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
+                            const ShadowVolumePixels* pixels = nullptr);
 
 /// Pass 1 per group: for every active pixel the nonzero (group, count / layers), sorted by group
 /// (CSR: entries of pixel i are [begin[i], begin[i + 1])).
@@ -124,7 +137,8 @@ struct GroupCounts {
   std::vector<uint32_t> group;
   std::vector<float> value;
 };
-GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point);
+GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
+                         const ShadowVolumePixels* pixels = nullptr);
 
 /// The wedges of one (sub-)light and their 16×16 tile bins (each bin in wedge index order).
 struct BinnedWedges {

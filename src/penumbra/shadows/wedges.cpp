@@ -35,11 +35,18 @@ struct RgbLight {
   Image<Vec3>* out = nullptr;
 };
 
+/// What every (sub-)light of a frame shares: the per-pixel setup and the casters' adjacency.
+struct FrameShared {
+  PixelSetup setup;
+  CasterMeshes casters;
+};
+
 /// One light (or sub-light): pass 1, silhouettes, wedges, pass 2. Returns V per pixel.
 Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
-                                  const PixelSetup& setup, const WedgeOptions& options,
+                                  const FrameShared& shared, const WedgeOptions& options,
                                   WedgeStats& st, const RgbLight& rgb = {}) {
   const GBuffer& g = ctx.gbuffer;
+  const PixelSetup& setup = shared.setup;
   const Vec3 centre = hard_shadow_point(light);
   // Paper III §3.3: the coverage texture replaces the analytic area for rectangular lights.
   const CoverageTexture* tex =
@@ -56,7 +63,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
   // approximation, per group (light-facing patch: its silhouette loops, wedge_pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters = make_casters(ctx.scene, centre);
+  const Casters casters = make_casters(shared.casters, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.silhouette_edges += sil.size();
   st.silhouettes_ms += ms_since(start);
@@ -65,9 +72,9 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   Image<float> count;
   GroupCounts gcount;
   if (options.overlap)
-    gcount = group_counts(ctx, casters, centre);
+    gcount = group_counts(ctx, casters, centre, &setup.volume);
   else
-    count = layered_counts(ctx, casters, centre);
+    count = layered_counts(ctx, casters, centre, &setup.volume);
   st.pass1_ms += ms_since(start);
 
   // Per pixel with the overlap approximation: the coverage of each group (its hard count plus its
@@ -199,7 +206,7 @@ Texture sub_texture(const Texture& t, int n, int i, int j) {
 /// exact per pixel (coverage = analytic) or from the RGB coverage table (coverage = texture), per
 /// sub-light of the split, each with its own part of the texture. The sub-lights' per-channel
 /// visible fractions are averaged with their emitted power as weights.
-Image<float> textured_visibility(const ShadowContext& ctx, const PixelSetup& setup,
+Image<float> textured_visibility(const ShadowContext& ctx, const FrameShared& shared,
                                  const WedgeOptions& options, int n, WedgeStats& st,
                                  Image<Vec3>* lit_rgb) {
   const Light& light = ctx.light;
@@ -214,7 +221,7 @@ Image<float> textured_visibility(const ShadowContext& ctx, const PixelSetup& set
       if (options.texture)
         table = std::make_unique<CoverageTextureRGB>(options.texture_n, emission);
       Image<Vec3> part_rgb(g.width, g.height, Vec3(1.0f));
-      visibility_for_light(ctx, n == 1 ? light : sub_light(light, n, i, j), setup, options, st,
+      visibility_for_light(ctx, n == 1 ? light : sub_light(light, n, i, j), shared, options, st,
                            RgbLight{&emission, table.get(), &part_rgb});
       for (size_t k = 0; k < seen.size(); ++k) seen[k] += emission.total * DVec3(part_rgb[k]);
       total += emission.total;
@@ -237,14 +244,16 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
                               WedgeStats* stats_out, Image<Vec3>* lit_rgb) {
   WedgeStats st;
   WedgeOptions options = options_in;
-  const PixelSetup setup = pixel_setup(ctx);
+  const auto start = std::chrono::steady_clock::now();
+  const FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
+  st.silhouettes_ms += ms_since(start);  // the adjacency silhouettes need (and the pixel setup)
   const Light& light = ctx.light;
   // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
   const int n = light.shape == LightShape::rect ? std::max(1, options.split) : 1;
   st.sub_lights = static_cast<size_t>(n) * n;
   Image<float> vis;
   if (light.shape == LightShape::rect && light.is_textured()) {
-    vis = textured_visibility(ctx, setup, options, n, st, lit_rgb);
+    vis = textured_visibility(ctx, shared, options, n, st, lit_rgb);
   } else {
     if (options.texture && !options.table)
       options.table = std::make_shared<const CoverageTexture>(options.texture_n);
@@ -252,7 +261,7 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i < n; ++i) {
         const Image<float> part = visibility_for_light(
-            ctx, n == 1 ? light : sub_light(light, n, i, j), setup, options, st);
+            ctx, n == 1 ? light : sub_light(light, n, i, j), shared, options, st);
         for (size_t k = 0; k < vis.size(); ++k) vis[k] += part[k] / static_cast<float>(n * n);
       }
     }
