@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/stats.hpp"
 
 namespace penumbra::gears {
 
@@ -78,10 +79,6 @@ CellRect footprint(const GridCamera& cam, const DVec3 tri[3], double z_t) {
   r.x1 = static_cast<int>(std::floor(std::min(hi.x, cam.res_x - 1.0)));
   r.y1 = static_cast<int>(std::floor(std::min(hi.y, cam.res_y - 1.0)));
   return r;
-}
-
-double ms_since(std::chrono::steady_clock::time_point t) {
-  return elapsed_ms(t);
 }
 
 }  // namespace
@@ -198,13 +195,13 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
     no_retraction += l_noret;
     aabb_cells += l_aabb;
   });
-  stats.count_ms += ms_since(t0);
+  stats.count_ms += elapsed_ms(t0);
 
   // Prefix sum of cellsN [seed 004 §4.2].
   t0 = std::chrono::steady_clock::now();
   std::vector<uint64_t> offsets(n + 1, 0);
   for (size_t t = 0; t < n; ++t) offsets[t + 1] = offsets[t] + counts[t];
-  stats.prefix_ms += ms_since(t0);
+  stats.prefix_ms += elapsed_ms(t0);
 
   // Pass 2: write the (triID, cellID) pairs.
   t0 = std::chrono::steady_clock::now();
@@ -224,12 +221,12 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
         }
     }
   });
-  stats.write_ms += ms_since(t0);
+  stats.write_ms += elapsed_ms(t0);
 
   t0 = std::chrono::steady_clock::now();
   radix_sort_by_cell(out.pairs, static_cast<uint32_t>(cam.cell_count()));
   cell_ranges(out.pairs, static_cast<uint32_t>(cam.cell_count()), out.begin, out.end);
-  stats.sort_ms += ms_since(t0);
+  stats.sort_ms += elapsed_ms(t0);
 
   stats.pairs += out.pairs.size();
   stats.pairs_without_retraction += no_retraction.load();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/stats.hpp"
 #include "penumbra/raster/projection.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/edges.hpp"
@@ -19,11 +20,6 @@ namespace {
 
 constexpr int kBand = 8;             // rows per parallel task
 constexpr size_t kFaceChunk = 4096;  // triangles per setup task
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 /// Tie rule for a pixel exactly on an edge plane: antisymmetric (owns(n) != owns(−n) for n ≠ 0).
 bool owns(const DVec3& n) {
@@ -141,7 +137,7 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const Camera& camera, co
                                     ShadowVolumeStats* stats_out) {
   const auto start = std::chrono::steady_clock::now();
   const ShadowVolumePixels px = shadow_volume_pixels(camera, g, receivers);
-  const double pixels_ms = ms_since(start);
+  const double pixels_ms = elapsed_ms(start);
   Image<int32_t> counts = shadow_volume_counts(scene, px, g, receivers, light_point, stats_out);
   if (stats_out) stats_out->edges_ms += pixels_ms;
   return counts;
@@ -179,7 +175,7 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels
     stats.silhouette_edges += d.silhouette.size();
     meshes.push_back(std::move(d));
   }
-  stats.edges_ms = ms_since(start);
+  stats.edges_ms = elapsed_ms(start);
 
   start = std::chrono::steady_clock::now();
   const VolumeBuilder builder(pos, C, L, proj, near, guard, margin);
@@ -239,7 +235,7 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels
     face_rows[i] = {y0, y1};
     for (int b = y0 / kBand; b <= y1 / kBand; ++b) bins[b].push_back(i);
   }
-  stats.setup_ms = ms_since(start);
+  stats.setup_ms = elapsed_ms(start);
 
   start = std::chrono::steady_clock::now();
   std::atomic<uint64_t> tests{0};
@@ -280,7 +276,7 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels
     tests += local_tests;
   });
   stats.pixel_tests = tests.load();
-  stats.count_ms = ms_since(start);
+  stats.count_ms = elapsed_ms(start);
   if (stats_out) *stats_out = stats;
   return counts;
 }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "penumbra/core/stats.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/shadow_volume.hpp"
 #include "penumbra/shadows/wedge_coverage.hpp"
@@ -19,11 +20,6 @@ namespace {
 using namespace wedge_pass;
 
 constexpr int kParts = 4;  // Forest §3.2.1, §3.3.3: four light parts split at the centre
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 double cross2(const DVec2& a, const DVec2& b) {
   return a.x * b.y - a.y * b.x;
@@ -212,12 +208,12 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   st.groups = casters.meshes.size();
   ws.silhouette_edges = sil.size();
   ws.sub_lights = 1;
-  ws.silhouettes_ms = ms_since(start);
+  ws.silhouettes_ms = elapsed_ms(start);
 
   // Algorithm 4 line 4: each group's hard shadow from its own shadow volume.
   start = std::chrono::steady_clock::now();
   const GroupCounts gcount = group_counts(ctx, casters, centre, &setup.volume);
-  ws.pass1_ms = ms_since(start);
+  ws.pass1_ms = elapsed_ms(start);
 
   const WedgeLight wl = wedge_light(light);
   start = std::chrono::steady_clock::now();
@@ -228,7 +224,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
     bw = build_and_bin(ctx, setup, {}, wl, construction);
   ws.wedges = bw.wedges.size();
   ws.wedge_fallbacks = bw.degenerate;
-  ws.wedges_ms = ms_since(start);
+  ws.wedges_ms = elapsed_ms(start);
 
   // Algorithm 4 lines 2–7 per pixel: SV-buffer of each group (Algorithm 5), blended into the
   // V-buffer (Algorithm 6). Everything is per pixel, so the buffers are per-pixel locals.
@@ -315,7 +311,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   ws.pixels_inside = pc.inside;
   ws.pixels_covered = pc.covered;
   ws.plane_fallbacks = pc.fallbacks;
-  ws.pass2_ms = ms_since(start);
+  ws.pass2_ms = elapsed_ms(start);
   if (stats_out) *stats_out = st;
   if (lit_rgb && emission) *lit_rgb = std::move(rgb_img);
   return vis;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "penumbra/core/stats.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/shadow_volume.hpp"
@@ -15,11 +16,6 @@ namespace penumbra {
 namespace {
 
 using namespace wedge_pass;
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 /// Paper IV §5.1, eq. 1: the coverages c_A, c_B of two silhouette loops combine to
 /// max(c_A, c_B) + ½ min(c_A, c_B), folded over the groups in group order.
@@ -66,7 +62,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   const Casters casters = make_casters(shared.casters, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.silhouette_edges += sil.size();
-  st.silhouettes_ms += ms_since(start);
+  st.silhouettes_ms += elapsed_ms(start);
 
   start = std::chrono::steady_clock::now();
   Image<float> count;
@@ -75,7 +71,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
     gcount = group_counts(ctx, casters, centre, &setup.volume);
   else
     count = layered_counts(ctx, casters, centre, &setup.volume);
-  st.pass1_ms += ms_since(start);
+  st.pass1_ms += elapsed_ms(start);
 
   // Per pixel with the overlap approximation: the coverage of each group (its hard count plus its
   // wedges, clamped), combined with eq. 1. Groups come in order from both the count entries and
@@ -133,7 +129,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   const BinnedWedges bw = build_and_bin(ctx, setup, sil, wedge_light(light), options.construction);
   st.wedges += bw.wedges.size();
   st.wedge_fallbacks += bw.degenerate;
-  st.wedges_ms += ms_since(start);
+  st.wedges_ms += elapsed_ms(start);
 
   // Pass 2 [paper III §3.2; Forest Algorithm 3]: per pixel, every wedge of its tile.
   start = std::chrono::steady_clock::now();
@@ -164,7 +160,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   st.pixels_inside += pc.inside;
   st.pixels_covered += pc.covered;
   st.plane_fallbacks += pc.fallbacks;
-  st.pass2_ms += ms_since(start);
+  st.pass2_ms += elapsed_ms(start);
   return vis;
 }
 
@@ -246,7 +242,7 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
   WedgeOptions options = options_in;
   const auto start = std::chrono::steady_clock::now();
   const FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
-  st.silhouettes_ms += ms_since(start);  // the adjacency silhouettes need (and the pixel setup)
+  st.silhouettes_ms += elapsed_ms(start);  // the adjacency silhouettes need (and the pixel setup)
   const Light& light = ctx.light;
   // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
   const int n = light.shape == LightShape::rect ? std::max(1, options.split) : 1;
