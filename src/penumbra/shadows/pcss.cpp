@@ -49,10 +49,8 @@ class Pcss final : public ShadowMethod {
     const GBuffer& g = ctx.gbuffer;
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
+    const DepthMap map = map_.render_from_light_centre(ctx, vis.times);
     auto start = std::chrono::steady_clock::now();
-    const DepthMap map = map_.render_from_light_centre(ctx);
-    vis.times.add("depth_map", elapsed_ms(start));
-    start = std::chrono::steady_clock::now();
     const double w_light = light_size_ > 0.0 ? light_size_ : light_width(ctx.light);
     const double z_min = std::max(static_cast<double>(map.min_depth), 1e-9);
     parallel_rows(g.height, [&](int y) {

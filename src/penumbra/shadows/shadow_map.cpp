@@ -43,8 +43,12 @@ DepthMapSettings DepthMapSettings::from(const MethodOptions& o) {
           o.get_real("slope_bias")};
 }
 
-DepthMap DepthMapSettings::render_from_light_centre(const ShadowContext& ctx) const {
-  return receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), resolution, faces);
+DepthMap DepthMapSettings::render_from_light_centre(const ShadowContext& ctx,
+                                                    StageTimes& times) const {
+  const auto start = std::chrono::steady_clock::now();
+  DepthMap map = receiver_fitted_depth_map(ctx, hard_shadow_point(ctx.light), resolution, faces);
+  times.add("depth_map", elapsed_ms(start));
+  return map;
 }
 
 DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_point,
@@ -102,10 +106,8 @@ class ShadowMap final : public ShadowMethod {
     const GBuffer& g = ctx.gbuffer;
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
+    const DepthMap map = map_.render_from_light_centre(ctx, vis.times);
     auto start = std::chrono::steady_clock::now();
-    const DepthMap map = map_.render_from_light_centre(ctx);
-    vis.times.add("depth_map", elapsed_ms(start));
-    start = std::chrono::steady_clock::now();
     const int k = pcf_;
     const double half = 0.5 * (k - 1);
     parallel_rows(g.height, [&](int y) {

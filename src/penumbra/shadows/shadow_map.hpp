@@ -31,8 +31,9 @@ struct DepthMapSettings {
   double slope_bias = 0.5;  // texels of depth slope
 
   static DepthMapSettings from(const MethodOptions& options);
-  /// The receiver-fitted depth map from the light centre (hard_shadow_point) with these settings.
-  DepthMap render_from_light_centre(const ShadowContext& ctx) const;
+  /// The receiver-fitted depth map from the light centre (hard_shadow_point) with these settings;
+  /// its time goes to the stage "depth_map" of `times`.
+  DepthMap render_from_light_centre(const ShadowContext& ctx, StageTimes& times) const;
 };
 
 /// The depth map of ctx's casters from `light_point`, its frustum fitted to the shadow origins of

@@ -394,9 +394,7 @@ class SilhouetteMap final : public ShadowMethod {
     const GBuffer& g = ctx.gbuffer;
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
-    auto start = std::chrono::steady_clock::now();
-    const DepthMap map = map_.render_from_light_centre(ctx);
-    vis.times.add("depth_map", elapsed_ms(start));
+    const DepthMap map = map_.render_from_light_centre(ctx, vis.times);
 
     // Soft mode: the band must hold the widest penumbra (nearest caster, furthest receiver).
     const double radius = soft_ ? light_radius(ctx.light) : 0.0;
@@ -414,7 +412,7 @@ class SilhouetteMap final : public ShadowMethod {
       half_band = std::clamp(0.5 * max_width + 2.0, half_band, std::max(half_band, max_band_));
     }
 
-    start = std::chrono::steady_clock::now();
+    auto start = std::chrono::steady_clock::now();
     const std::vector<TamFace> tam = build_tam(ctx.scene);
     const SilhouetteLayer layer = render_silhouettes(tam, map, half_band);
     vis.times.add("silhouettes", elapsed_ms(start));
