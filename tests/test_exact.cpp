@@ -16,7 +16,7 @@
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/exact.hpp"
+#include "penumbra/shadows/exact/exact.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "support/frame_helpers.hpp"
 

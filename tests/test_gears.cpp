@@ -10,7 +10,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/gears_item_cull.hpp"
+#include "penumbra/shadows/gears/item_cull.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {
@@ -196,7 +196,7 @@ TEST(Gears, NeverMissesABlockingTriangle) {
 }
 
 /// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
-/// The per-work-item cull (gears_item_cull.hpp) never drops a triangle that blocks one of the
+/// The per-work-item cull (gears/item_cull.hpp) never drops a triangle that blocks one of the
 /// item's samples from some light point: random triangles and sample sets in light space, blocking
 /// decided by a double-precision segment–triangle test against a 24×24 grid of light points.
 TEST(Gears, ItemCullIsConservative) {

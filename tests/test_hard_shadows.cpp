@@ -10,7 +10,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/shadow_volume.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {

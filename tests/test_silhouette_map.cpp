@@ -10,7 +10,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/silhouette_map.hpp"
+#include "penumbra/shadows/depth_maps/silhouette_map.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {

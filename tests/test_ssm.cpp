@@ -10,7 +10,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/ssm.hpp"
+#include "penumbra/shadows/depth_maps/ssm.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {

@@ -12,9 +12,9 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "penumbra/shadows/wedge_coverage.hpp"
-#include "penumbra/shadows/wedge_geometry.hpp"
-#include "penumbra/shadows/wedge_pass.hpp"
+#include "penumbra/shadows/wedges/coverage.hpp"
+#include "penumbra/shadows/wedges/geometry.hpp"
+#include "penumbra/shadows/wedges/pass.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {
@@ -66,7 +66,7 @@ Diff compare(const TestFrame& t, const std::string& method,
   return d;
 }
 
-/// Both wedge constructions (wedge_geometry.hpp): every exactness test runs with each.
+/// Both wedge constructions (wedges/geometry.hpp): every exactness test runs with each.
 constexpr const char* kConstructions[] = {"paper", "hull"};
 
 void print(const char* what, const Diff& d) {
@@ -250,7 +250,7 @@ DVec3 random_light_point(const Light& l, std::mt19937& rng) {
 }
 
 /// Does the segment meet the (one-sided, planar) light? Then points behind its plane are exempt
-/// (wedge_geometry.hpp: the clip to the emitting side).
+/// (wedges/geometry.hpp: the clip to the emitting side).
 bool meets_light(const Light& l, const DVec3& a, const DVec3& b) {
   const double ha = a.y - l.center.y, hb = b.y - l.center.y;
   if ((ha > 0.0) == (hb > 0.0) && ha != 0.0 && hb != 0.0) return false;
@@ -259,7 +259,7 @@ bool meets_light(const Light& l, const DVec3& a, const DVec3& b) {
   return std::abs(q.x) <= 0.3 + 1e-6 && std::abs(q.z) <= 0.2 + 1e-6;
 }
 
-/// The lemma of wedge_geometry.hpp, sampled: every point x + t(X − x) (x on the light, X on the
+/// The lemma of wedges/geometry.hpp, sampled: every point x + t(X − x) (x on the light, X on the
 /// edge, t > 1) lies in the wedge, for each light shape and both constructions, for random edges
 /// (below, beside and above the light, crossing its plane, some through the light itself).
 TEST(WedgeGeometry, WedgesContainTheEdgeRegion) {

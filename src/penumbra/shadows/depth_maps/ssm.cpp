@@ -1,0 +1,378 @@
+// `ssm`: Soft Shadow Maps [seed 002 §3], one-pass and two-pass (§3.5). See depth_maps/ssm.hpp and
+// docs/methods/ssm.md.
+//
+// Stages of compute():
+//  1. occluder/receiver split [seed 002 §3.1]: a mesh with casts_shadows only is an occluder, with
+//     receives_shadows only a receiver; meshes with both flags (the default) are occluders, except
+//     — when no mesh is receiver-only — the largest one (bounding-box diagonal: the ground), which
+//     receives only. Occluder pixels get no shadow (V = 1): the method has no self-shadowing.
+//  2. windows in the light's tangent space (x/z, y/z from the light centre, axes along the light's
+//     edges): the occluder window around the occluders, with the light's aspect ratio so that its
+//     texels (resolution²) and hence the micro-patches have the light's aspect [seed 002 §3.2];
+//     the soft-shadow-map window = the receivers seen by the camera ∩ the occluders' penumbra.
+//  3. occluder map(s): nearest front faces; two-pass adds the furthest back faces [seed 002 §3.5];
+//     receiver map (nearest receiver depth) on the soft-shadow-map grid.
+//  4. per occluder texel: micro-patch, pyramid apex and extent [seed 002 §3.3], occlusion of every
+//     soft-shadow-map texel in the extent from its receiver depth [seed 002 §3.4], summed in
+//     float32 (option fp16: every blend rounded to binary16, appendix A).
+//  5. two-pass: per-texel max of the two soft shadow maps; projection onto the G-buffer pixels
+//     from the light centre (bilinear over texels holding a receiver).
+#include "penumbra/shadows/depth_maps/ssm.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/raster/projection.hpp"
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/registry.hpp"
+
+namespace penumbra {
+
+namespace {
+
+using ssm::DVec3;
+using ssm::LightRect;
+using ssm::Window;
+
+constexpr double kMaxTan = 11.430052302761343;  // tan 85°: the widest window
+constexpr int kBand = 8;
+
+void assign_roles(const Scene& s, std::vector<bool>& occ, std::vector<bool>& rec) {
+  const size_t n = s.meshes.size();
+  occ.assign(n, false);
+  rec.assign(n, false);
+  bool receiver_only = false;
+  for (const Mesh& m : s.meshes) receiver_only |= (!m.casts_shadows && m.receives_shadows);
+  size_t ground = n;
+  float best = -1.0f;
+  if (!receiver_only)
+    for (size_t i = 0; i < n; ++i)
+      if (s.meshes[i].casts_shadows && s.meshes[i].receives_shadows &&
+          s.meshes[i].bounds().diagonal() > best) {
+        best = s.meshes[i].bounds().diagonal();
+        ground = i;
+      }
+  for (size_t i = 0; i < n; ++i) {
+    const Mesh& m = s.meshes[i];
+    if (m.casts_shadows && m.receives_shadows) {
+      (i == ground ? rec : occ)[i] = true;
+    } else {
+      occ[i] = m.casts_shadows;
+      rec[i] = m.receives_shadows;
+    }
+  }
+}
+
+/// Tangent bounding box accumulator.
+struct TanBox {
+  double x0 = kInfinity, x1 = -kInfinity, y0 = kInfinity, y1 = -kInfinity;
+  void add(double x, double y) {
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  /// Adds a light-space point; one at or behind the near depth opens the box to the cap.
+  void add_point(const DVec3& l, double near) {
+    if (l.z <= near) {
+      add(-kMaxTan, -kMaxTan);
+      add(kMaxTan, kMaxTan);
+    } else {
+      add(std::clamp(l.x / l.z, -kMaxTan, kMaxTan), std::clamp(l.y / l.z, -kMaxTan, kMaxTan));
+    }
+  }
+  bool empty() const { return !(x1 >= x0) || !(y1 >= y0); }
+};
+
+struct Patch {
+  double px, py, hx, hy, zo;
+  int i0, i1, j0, j1;  // soft-shadow-map texel range of the penumbra extent (inclusive)
+};
+
+class Ssm final : public ShadowMethod {
+ public:
+  explicit Ssm(const MethodOptions& o)
+      : res_(o.get_int("resolution")),
+        ssm_res_(o.get_int("ssm_resolution")),
+        two_pass_(o.get_bool("two_pass")),
+        back_furthest_(o.get_choice("back_depth") == "furthest"),
+        fp16_(o.get_bool("fp16")) {}
+
+  Visibility compute(const ShadowContext& ctx) override {
+    const GBuffer& g = ctx.gbuffer;
+    const Scene& scene = ctx.scene;
+    Visibility vis;
+    vis.lit = Image<float>(g.width, g.height, 1.0f);
+    auto start = std::chrono::steady_clock::now();
+
+    // 1. Roles.
+    std::vector<bool> occ, rec;
+    assign_roles(scene, occ, rec);
+    const double diag = std::max(1e-3f, scene.bounds().diagonal());
+    const double near = 1e-6 * diag;
+
+    // 2. Light frame, receiver box, occluder window.
+    Bounds3 active_box;
+    for (size_t i = 0; i < g.pixel_count(); ++i)
+      if (ctx.receivers[i] == kActive) active_box.extend(g.shadow_origin(i));
+    const DVec3 toward =
+        active_box.empty() ? DVec3(ctx.light.center) - DVec3(0, 1, 0) : DVec3(active_box.center());
+    const LightRect light = ssm::light_rect(ctx.light, toward, 1e-6 * diag);
+    vis.counters["light_lu"] = light.lu;
+    vis.counters["light_lv"] = light.lv;
+
+    TanBox rbox;
+    double zr_max = 0.0;
+    double occluder_pixels = 0;
+    for (size_t i = 0; i < g.pixel_count(); ++i) {
+      if (ctx.receivers[i] != kActive) continue;
+      if (!rec[g.mesh_id[i]]) {
+        ++occluder_pixels;
+        continue;
+      }
+      const DVec3 l = light.local(DVec3(g.shadow_origin(i)));
+      if (l.z <= near) continue;
+      rbox.add_point(l, near);
+      zr_max = std::max(zr_max, l.z);
+    }
+    vis.counters["occluder_pixels"] = occluder_pixels;
+    TanBox obox;
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      if (occ[m])
+        for (const Vec3& p : scene.meshes[m].positions) obox.add_point(light.local(DVec3(p)), near);
+    vis.times.add("fit", elapsed_ms(start));
+    if (rbox.empty() || obox.empty()) return vis;
+
+    // Occluder window: a 1e-6 relative margin, then widened to the light's aspect ratio [seed 002
+    // §3.2].
+    Window ow;
+    {
+      const double cx = 0.5 * (obox.x0 + obox.x1), cy = 0.5 * (obox.y0 + obox.y1);
+      double wx = (obox.x1 - obox.x0) * (1.0 + 1e-6) + 1e-9;
+      double wy = (obox.y1 - obox.y0) * (1.0 + 1e-6) + 1e-9;
+      const double aspect = light.lu / light.lv;
+      if (wx < wy * aspect)
+        wx = wy * aspect;
+      else
+        wy = wx / aspect;
+      ow = {cx - 0.5 * wx, cx + 0.5 * wx, cy - 0.5 * wy, cy + 0.5 * wy, res_, res_};
+    }
+
+    // 3. Occluder maps.
+    start = std::chrono::steady_clock::now();
+    std::vector<Image<float>> omaps;
+    omaps.push_back(
+        ssm::render_light_map(scene, occ, light, ow, ssm::MapFaces::front_nearest, near));
+    if (two_pass_)
+      omaps.push_back(ssm::render_light_map(
+          scene, occ, light, ow,
+          back_furthest_ ? ssm::MapFaces::back_furthest : ssm::MapFaces::back_nearest, near));
+    double zo_min = kInfinity, occ_texels = 0;
+    for (const Image<float>& m : omaps)
+      for (float d : m.pixels())
+        if (d < kInfinity) {
+          zo_min = std::min(zo_min, static_cast<double>(d));
+          ++occ_texels;
+        }
+    vis.times.add("occluder_map", elapsed_ms(start));
+    vis.counters["occluder_texels"] = occ_texels;
+    if (!(zo_min < zr_max)) return vis;
+
+    // Soft-shadow-map window: receivers ∩ the occluder window grown by the widest penumbra
+    // half-extent (§3.3 at the nearest occluder depth and the farthest receiver depth).
+    Window sw;
+    {
+      const double mx = 0.5 * ow.dx() + 0.5 * light.lu * (1.0 / zo_min - 1.0 / zr_max);
+      const double my = 0.5 * ow.dy() + 0.5 * light.lv * (1.0 / zo_min - 1.0 / zr_max);
+      sw.tx0 = std::max(rbox.x0, ow.tx0 - mx);
+      sw.tx1 = std::min(rbox.x1, ow.tx1 + mx);
+      sw.ty0 = std::max(rbox.y0, ow.ty0 - my);
+      sw.ty1 = std::min(rbox.y1, ow.ty1 + my);
+      // A half-texel margin so that bilinear lookups at the receivers' edge stay inside.
+      const double ex = (sw.tx1 - sw.tx0) / ssm_res_, ey = (sw.ty1 - sw.ty0) / ssm_res_;
+      sw.tx0 -= ex;
+      sw.tx1 += ex;
+      sw.ty0 -= ey;
+      sw.ty1 += ey;
+      sw.w = sw.h = ssm_res_;
+    }
+    if (sw.empty()) return vis;
+    start = std::chrono::steady_clock::now();
+    const Image<float> rmap =
+        ssm::render_light_map(scene, rec, light, sw, ssm::MapFaces::all_nearest, near);
+    vis.times.add("receiver_map", elapsed_ms(start));
+
+    // 4. One soft shadow map per occluder map.
+    std::vector<Image<float>> ssms;
+    double touched_total = 0;
+    for (size_t pass = 0; pass < omaps.size(); ++pass) {
+      start = std::chrono::steady_clock::now();
+      const std::vector<Patch> patches = make_patches(omaps[pass], ow, sw, light, zr_max);
+      std::atomic<long long> touched{0};
+      Image<float> acc(sw.w, sw.h, 0.0f);
+      parallel_bands(sw.h, kBand, [&](int first, int last) {
+        long long local = 0;
+        for (const Patch& p : patches) {  // occluder-map order: the blending order
+          const int j0 = std::max(p.j0, first), j1 = std::min(p.j1, last - 1);
+          for (int j = j0; j <= j1; ++j) {
+            const double ty = sw.centre_y(j);
+            for (int i = p.i0; i <= p.i1; ++i) {
+              const float zr = rmap(i, j);
+              if (!(zr < kInfinity)) continue;
+              ++local;
+              const double o =
+                  ssm::patch_occlusion(p.px, p.py, p.hx, p.hy, p.zo, zr * sw.centre_x(i), zr * ty,
+                                       zr, light.lu, light.lv);
+              if (o <= 0.0) continue;
+              float& a = acc(i, j);
+              // fp16: the contribution is stored as binary16, the blend truncates (App. A).
+              a = fp16_ ? ssm::round_to_half(a + ssm::round_to_half(static_cast<float>(o)), true)
+                        : a + static_cast<float>(o);
+            }
+          }
+        }
+        touched += local;
+      });
+      touched_total += static_cast<double>(touched.load());
+      vis.times.add(pass == 0 ? "ssm_front" : "ssm_back", elapsed_ms(start));
+      ssms.push_back(std::move(acc));
+    }
+    vis.counters["penumbra_texels"] = touched_total;
+
+    // 5. Merge (max, §3.5) and project onto the G-buffer.
+    start = std::chrono::steady_clock::now();
+    Image<float> merged = std::move(ssms[0]);
+    for (size_t k = 1; k < ssms.size(); ++k)
+      for (size_t t = 0; t < merged.size(); ++t)
+        merged.pixels()[t] = std::max(merged.pixels()[t], ssms[k].pixels()[t]);
+    std::atomic<long long> hidden{0};
+    parallel_rows(g.height, [&](int y) {
+      long long local_hidden = 0;
+      for (int x = 0; x < g.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * g.width + x;
+        if (ctx.receivers[i] != kActive || !rec[g.mesh_id[i]]) continue;
+        const DVec3 l = light.local(DVec3(g.shadow_origin(i)));
+        if (l.z <= near) continue;
+        const double u = sw.to_u(l.x / l.z) - 0.5, v = sw.to_v(l.y / l.z) - 0.5;
+        const double fu = std::floor(u), fv = std::floor(v);
+        if (!(fu >= -1.0 && fu < sw.w && fv >= -1.0 && fv < sw.h)) continue;
+        const int i0 = static_cast<int>(fu), j0 = static_cast<int>(fv);
+        double sum = 0.0, wsum = 0.0, nearest_w = -1.0, nearest_z = kInfinity;
+        for (int dj = 0; dj < 2; ++dj)
+          for (int di = 0; di < 2; ++di) {
+            const int ti = i0 + di, tj = j0 + dj;
+            if (ti < 0 || tj < 0 || ti >= sw.w || tj >= sw.h) continue;
+            const float zr = rmap(ti, tj);
+            if (!(zr < kInfinity)) continue;
+            const double w = (di ? u - fu : 1.0 - (u - fu)) * (dj ? v - fv : 1.0 - (v - fv));
+            sum += w * merged(ti, tj);
+            wsum += w;
+            if (w > nearest_w) {
+              nearest_w = w;
+              nearest_z = zr;
+            }
+          }
+        if (!(wsum > 0.0)) continue;
+        // A receiver hidden from the light centre by a nearer receiver reads the nearer one's
+        // occlusion (the receiver map keeps one depth per texel): counted, not corrected.
+        local_hidden += std::abs(nearest_z - l.z) > 0.05 * l.z;
+        vis.lit[i] = static_cast<float>(1.0 - std::clamp(sum / wsum, 0.0, 1.0));
+      }
+      hidden += local_hidden;
+    });
+    vis.times.add("project", elapsed_ms(start));
+    vis.counters["hidden_receiver_pixels"] = static_cast<double>(hidden.load());
+    vis.counters["ssm_tan_width"] = sw.tx1 - sw.tx0;
+    return vis;
+  }
+
+ private:
+  /// Micro-patches of one occluder map [seed 002 §3.2] and their penumbra extents [§3.3].
+  static std::vector<Patch> make_patches(const Image<float>& omap, const Window& ow,
+                                         const Window& sw, const LightRect& light, double zr_max) {
+    std::vector<Patch> out;
+    for (int j = 0; j < ow.h; ++j)
+      for (int i = 0; i < ow.w; ++i) {
+        const double zo = omap(i, j);
+        if (!(zo < zr_max)) continue;
+        Patch p;
+        p.zo = zo;
+        // §3.2: the texel's image area at depth z_O, in a plane parallel to the light.
+        const double tx = ow.centre_x(i), ty = ow.centre_y(j);
+        p.px = zo * tx;
+        p.py = zo * ty;
+        p.hx = 0.5 * zo * ow.dx();
+        p.hy = 0.5 * zo * ow.dy();
+        // §3.3: r = LL'/PP' (the same on both axes: same aspect ratio), apex O on C_L C_P with
+        // C_L O = r/(1+r)·C_L C_P, so at depth z_a = z_O·r/(1+r). Scaling from C_L through O to the
+        // farthest receiver depth z_R gives the extent centre C_R = (z_R/z_a)·O — in tangent space
+        // the texel's own centre — and width RR' = LL'·(z_R − z_a)/z_a. (The paper prints
+        // z_R/(z_R − z_O) for the first factor; with depths measured from the light plane the
+        // similar triangles give z_R/z_a, which is what matches the back-projection of §3.4.)
+        const double r = light.lu / (2.0 * p.hx);
+        const double za = zo * r / (1.0 + r);
+        const double rr_x = light.lu * (zr_max - za) / za;
+        const double rr_y = light.lv * (zr_max - za) / za;
+        const double ex = 0.5 * rr_x / zr_max, ey = 0.5 * rr_y / zr_max;  // tangent half-extent
+        // Texel centres inside [t − e, t + e]; clamped in double before the integer cast (an
+        // occluder touching the light has an unbounded extent, §4.1.2).
+        const auto lo = [](double c) { return std::clamp(std::ceil(c - 0.5), -1.0, 1e9); };
+        const auto hi = [](double c) { return std::clamp(std::floor(c - 0.5), -1.0, 1e9); };
+        const double u0 = lo(sw.to_u(tx - ex)), u1 = hi(sw.to_u(tx + ex));
+        const double v0 = lo(sw.to_v(ty + ey)), v1 = hi(sw.to_v(ty - ey));
+        p.i0 = static_cast<int>(std::max(u0, 0.0));
+        p.i1 = static_cast<int>(std::min(u1, sw.w - 1.0));
+        p.j0 = static_cast<int>(std::max(v0, 0.0));
+        p.j1 = static_cast<int>(std::min(v1, sw.h - 1.0));
+        if (p.i0 > p.i1 || p.j0 > p.j1) continue;
+        out.push_back(p);
+      }
+    return out;
+  }
+
+  int res_, ssm_res_;
+  bool two_pass_, back_furthest_, fp16_;
+};
+
+}  // namespace
+
+void register_ssm(MethodRegistry& registry) {
+  MethodInfo info;
+  info.name = "ssm";
+  info.summary =
+      "soft shadow maps: occluder-map texels as light-parallel micro-patches, back-projected onto "
+      "the rectangular light (one- or two-pass)";
+  info.reference = "[seed 002 §3; Atty et al. 2006]";
+  info.options = {
+      {"resolution", OptionType::integer, "128", "occluder map side in texels", {}, 4, 4096},
+      {"ssm_resolution",
+       OptionType::integer,
+       "256",
+       "soft shadow map (and receiver map) side in texels",
+       {},
+       8,
+       8192},
+      {"two_pass",
+       OptionType::boolean,
+       "true",
+       "add the back-face occluder map and merge with max (§3.5)",
+       {}},
+      {"back_depth",
+       OptionType::choice,
+       "furthest",
+       "two-pass back-face map keeps the furthest or the nearest back face",
+       {"furthest", "nearest"}},
+      {"fp16",
+       OptionType::boolean,
+       "false",
+       "round every blend to binary16 (the 2006 GPUs' blending, appendix A)",
+       {}},
+  };
+  info.create = [](const MethodOptions& o) { return std::make_unique<Ssm>(o); };
+  registry.add(std::move(info));
+}
+
+}  // namespace penumbra

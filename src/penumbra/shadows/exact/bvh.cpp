@@ -1,0 +1,130 @@
+#include "penumbra/shadows/exact/bvh.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+#include "penumbra/core/error.hpp"
+
+namespace penumbra {
+
+namespace {
+
+constexpr int kBins = 16;
+
+float half_area(const Bounds3& b) {
+  if (b.empty()) return 0.0f;
+  const Vec3 e = b.extent();
+  return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+}  // namespace
+
+void ExactBvh::build(const std::vector<Bounds3>& boxes, int leaf_size) {
+  nodes_.clear();
+  order_.clear();
+  depth_ = 0;
+  if (boxes.empty()) return;
+  if (boxes.size() >= (size_t{1} << 31))
+    throw Error("exact: too many occluder triangles for the BVH");
+  std::vector<Vec3> centroids(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i) centroids[i] = boxes[i].center();
+  order_.resize(boxes.size());
+  std::iota(order_.begin(), order_.end(), 0u);
+  nodes_.reserve(2 * boxes.size() / static_cast<size_t>(std::max(1, leaf_size)) + 1);
+  build_node(boxes, centroids, 0, static_cast<uint32_t>(boxes.size()), 0, std::max(1, leaf_size));
+}
+
+uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids,
+                              uint32_t begin, uint32_t end, int depth, int leaf_size) {
+  const uint32_t index = static_cast<uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  depth_ = std::max(depth_, depth);
+  Bounds3 bounds, centroid_bounds;
+  for (uint32_t k = begin; k < end; ++k) {
+    bounds.extend(boxes[order_[k]]);
+    centroid_bounds.extend(centroids[order_[k]]);
+  }
+  nodes_[index].lo = bounds.lo;
+  nodes_[index].hi = bounds.hi;
+  const uint32_t count = end - begin;
+  if (count <= static_cast<uint32_t>(leaf_size)) {
+    nodes_[index].first = begin;
+    nodes_[index].count = count;
+    return index;
+  }
+
+  uint32_t mid = begin;
+  const Vec3 extent = centroid_bounds.extent();
+  if (depth < kSahDepth) {
+    // Binned SAH over all three axes (Wald 2007): cost = area(left)·n_left + area(right)·n_right.
+    float best_cost = std::numeric_limits<float>::infinity();
+    int best_axis = -1, best_split = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(extent[axis] > 0.0f)) continue;
+      const float scale = static_cast<float>(kBins) / extent[axis];
+      const auto bin_of = [&](uint32_t prim) {
+        const int b = static_cast<int>((centroids[prim][axis] - centroid_bounds.lo[axis]) * scale);
+        return std::clamp(b, 0, kBins - 1);
+      };
+      Bounds3 bin_bounds[kBins];
+      uint32_t bin_count[kBins] = {};
+      for (uint32_t k = begin; k < end; ++k) {
+        const int b = bin_of(order_[k]);
+        bin_bounds[b].extend(boxes[order_[k]]);
+        ++bin_count[b];
+      }
+      float right_area[kBins];
+      uint32_t right_count[kBins];
+      Bounds3 acc;
+      uint32_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.extend(bin_bounds[b]);
+        n += bin_count[b];
+        right_area[b] = half_area(acc);
+        right_count[b] = n;
+      }
+      acc = Bounds3();
+      n = 0;
+      for (int split = 1; split < kBins; ++split) {  // left = bins [0, split)
+        acc.extend(bin_bounds[split - 1]);
+        n += bin_count[split - 1];
+        if (n == 0 || right_count[split] == 0) continue;
+        const float cost = half_area(acc) * static_cast<float>(n) +
+                           right_area[split] * static_cast<float>(right_count[split]);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_axis = axis;
+          best_split = split;
+        }
+      }
+    }
+    if (best_axis >= 0) {
+      const float scale = static_cast<float>(kBins) / extent[best_axis];
+      const auto it =
+          std::partition(order_.begin() + begin, order_.begin() + end, [&](uint32_t prim) {
+            const int b = static_cast<int>(
+                (centroids[prim][best_axis] - centroid_bounds.lo[best_axis]) * scale);
+            return std::clamp(b, 0, kBins - 1) < best_split;
+          });
+      mid = static_cast<uint32_t>(it - order_.begin());
+    }
+  }
+  if (mid <= begin || mid >= end) {
+    // Object-median split on the widest centroid axis: always separates, halves the count.
+    int axis = 0;
+    if (extent.y > extent[axis]) axis = 1;
+    if (extent.z > extent[axis]) axis = 2;
+    mid = begin + count / 2;
+    std::nth_element(
+        order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+        [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  }
+  build_node(boxes, centroids, begin, mid, depth + 1, leaf_size);
+  const uint32_t right = build_node(boxes, centroids, mid, end, depth + 1, leaf_size);
+  nodes_[index].first = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+}  // namespace penumbra

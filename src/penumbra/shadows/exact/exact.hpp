@@ -1,0 +1,122 @@
+// `exact`: the analytic reference. Per receiver point, every occluder polygon between the point
+// and the light is projected onto the light's uv square (exactly, by homogeneous clipping), and
+// the visible fraction is the area of the light left uncovered, measured with exact integer
+// polygon booleans (Clipper) — no light samples [DESIGN.md "An exact reference"]. It is the
+// V_coef of [seed 003 eq. 2.10] integrated exactly: alpha-textured occluders are cut into their
+// opaque texel runs, semi-opaque ones multiply by their transmittance per crossing
+// [seed 003 §4.3.3], textured lights weight the light by texel.
+//
+// It shares no candidate search with any method it judges (its own BVH, exact/bvh.hpp).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "penumbra/shadows/exact/bvh.hpp"
+#include "penumbra/shadows/exact/projection.hpp"
+#include "penumbra/shadows/method.hpp"
+
+namespace penumbra {
+
+struct ExactOptions {
+  /// Sides of the equal-area polygon that stands in for a round light (error ≤ 0.128·(π/N)² in V:
+  /// 1.9e-5 for 256; see make_light_outline).
+  int disk_segments = 256;
+  int leaf_size = 4;  // BVH leaf size, triangles
+};
+
+/// One shadow-casting triangle, in double precision (the float vertices convert exactly).
+struct ExactOccluder {
+  DVec3 v[3];
+  /// 0: opaque. In (0, 1): every crossing multiplies the light by it (semi-opaque).
+  double transmittance = 0.0;
+  /// Alpha-textured triangle partly cut away by its mask: only its opaque pieces
+  /// pieces()[piece_first, piece_first + piece_count) block light. False: the whole triangle.
+  bool cut = false;
+  uint32_t piece_first = 0;
+  uint32_t piece_count = 0;
+};
+
+/// A convex part of an alpha-textured triangle (at most 7 vertices: triangle ∩ texel-run
+/// rectangle) where the nearest-texel mask is opaque: piece_vertices()[first, first + count).
+struct ExactPiece {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
+/// The scene's occluders as the reference sees them, built once per frame: the shadow-casting
+/// triangles (casts_shadows meshes, transmittance < 1), the opaque pieces of alpha-textured ones
+/// and the BVH over them.
+class ExactScene {
+ public:
+  explicit ExactScene(const Scene& scene, int leaf_size = 4);
+
+  const Scene& scene() const { return *scene_; }
+  const std::vector<ExactOccluder>& occluders() const { return occluders_; }
+  const std::vector<ExactPiece>& pieces() const { return pieces_; }
+  const std::vector<DVec3>& piece_vertices() const { return piece_vertices_; }
+  const ExactBvh& bvh() const { return bvh_; }
+
+ private:
+  const Scene* scene_;
+  std::vector<ExactOccluder> occluders_;
+  std::vector<ExactPiece> pieces_;
+  std::vector<DVec3> piece_vertices_;
+  ExactBvh bvh_;
+};
+
+/// Everything about one light that does not depend on the receiver: its uv outline (square or
+/// equal-area polygon) and, for a textured light, the RGB weight of every texel and their
+/// area-weighted sum over the outline.
+class ExactLight {
+ public:
+  ExactLight(const Scene& scene, const Light& light, int disk_segments = 256);
+
+  const Light& light() const { return *light_; }
+  const LightOutline& outline() const { return outline_; }
+  bool textured() const { return texture_width_ > 0; }
+  int texture_width() const { return texture_width_; }
+  int texture_height() const { return texture_height_; }
+  /// Per texel (row-major, row 0 at v = 0): emission texture RGB × light radiance.
+  const std::vector<DVec3>& texel_weight() const { return texel_weight_; }
+  /// Σ texel_weight × area(texel ∩ outline), uv units².
+  const DVec3& total_weight() const { return total_weight_; }
+
+ private:
+  const Light* light_;
+  LightOutline outline_;
+  int texture_width_ = 0;
+  int texture_height_ = 0;
+  std::vector<DVec3> texel_weight_;
+  DVec3 total_weight_{0.0};
+};
+
+struct ExactPointResult {
+  /// Visible fraction in [0, 1]. Textured lights: of the emitted luminance (Rec. 709), the same
+  /// collapse of RGB to one number as the sampling methods (light_weights.hpp).
+  double visible = 1.0;
+  /// Per channel visible fraction of the emitted RGB (textured lights; a channel the light does
+  /// not emit in reads 1, as in light_weights.hpp). Untextured lights: visible in all three.
+  DVec3 visible_rgb{1.0};
+  uint32_t candidates =
+      0;  // occluder triangles whose box met the pyramid (the segment: point lights)
+  uint32_t polygons = 0;  // non-empty projected occluder polygons
+  /// The receiver lies in the light's plane (or is not finite): the projection is undefined and
+  /// the documented fallback V = 1 ("light touching geometry") was taken.
+  bool degenerate = false;
+};
+
+/// The exact visibility of `light` from the world point `receiver` (double precision throughout;
+/// the light frame comes from light_frame(light.light(), receiver)).
+ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
+                                  const Vec3& receiver);
+
+/// Convenience for tests and one-off queries: builds the ExactLight on every call.
+double exact_visible_fraction(const ExactScene& scene, const Light& light, Vec3 receiver,
+                              int disk_segments = 256);
+
+/// The `exact` ShadowMethod (also registered by name through register_exact).
+std::unique_ptr<ShadowMethod> make_exact_method(const ExactOptions& options = {});
+
+}  // namespace penumbra

@@ -1,0 +1,287 @@
+// ExactScene and ExactLight: the per-frame and per-light preparation of the exact reference,
+// including the decomposition of alpha-textured triangles into their opaque pieces.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/shadows/exact/exact.hpp"
+
+namespace penumbra {
+
+namespace {
+
+/// Largest texel-cell count (rows × columns of its uv bounding box) one alpha-textured triangle may
+/// span: beyond it the decomposition would take minutes, so the frame is refused with an Error.
+constexpr double kMaxAlphaCells = double{1 << 26};
+
+double cross2(const DVec2& a, const DVec2& b) {
+  return a.x * b.y - a.y * b.x;
+}
+
+/// Sutherland–Hodgman of a convex uv polygon against sign · (q[axis] − bound) ≥ 0.
+void clip_uv(std::vector<DVec2>& poly, std::vector<DVec2>& tmp, int axis, double bound,
+             double sign) {
+  tmp.clear();
+  const size_t n = poly.size();
+  for (size_t i = 0; i < n; ++i) {
+    const DVec2& prev = poly[(i + n - 1) % n];
+    const DVec2& cur = poly[i];
+    const double fp = sign * (prev[axis] - bound), fc = sign * (cur[axis] - bound);
+    if ((fc >= 0.0) != (fp >= 0.0)) {
+      DVec2 x = prev + (fp / (fp - fc)) * (cur - prev);
+      x[axis] = bound;
+      tmp.push_back(x);
+    }
+    if (fc >= 0.0) tmp.push_back(cur);
+  }
+  poly.swap(tmp);
+}
+
+double polygon_area(const std::vector<DVec2>& poly) {
+  double twice = 0.0;
+  for (size_t i = 0; i < poly.size(); ++i) twice += cross2(poly[i], poly[(i + 1) % poly.size()]);
+  return 0.5 * twice;
+}
+
+struct AlphaPieces {
+  bool whole = false;                      // the mask is opaque over the whole triangle
+  std::vector<std::vector<DVec3>> pieces;  // otherwise: the opaque convex pieces (may be none)
+};
+
+/// The opaque part of a triangle under a nearest-texel alpha mask, exactly. Texel (tx, ty) covers
+/// uv [tx/w, (tx+1)/w) × [ty/h, (ty+1)/h) repeated with period 1 (Texture::texel_index), so the
+/// opaque set in uv is a union of axis-aligned texel rectangles; uv → world is affine on the
+/// triangle, so each rectangle ∩ triangle maps to a convex world polygon.
+///
+/// Rows are scanned in absolute texel indices over the triangle's uv bounding box (any number of
+/// texture periods, wrapping the lookup). In each row, runs of opaque texels form rectangles; a run
+/// that reaches the triangle's extent in that row is extended to the bounding box's edge (the
+/// triangle is not there, so it changes nothing), which lets identical runs of consecutive rows
+/// merge into one taller rectangle: the fence mask's 64×64 texels become ~26 rectangles.
+AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 world[3]) {
+  AlphaPieces out;
+  const DVec2 e1 = uv[1] - uv[0], e2 = uv[2] - uv[0];
+  const double det = cross2(e1, e2);
+  DVec2 lo = glm::min(uv[0], glm::min(uv[1], uv[2])), hi = glm::max(uv[0], glm::max(uv[1], uv[2]));
+  const DVec2 ext = hi - lo;
+  const auto opaque_at = [&](int64_t column, int64_t row) {
+    const int64_t w = tex.width, h = tex.height;
+    const int tx = static_cast<int>(((column % w) + w) % w),
+              ty = static_cast<int>(((row % h) + h) % h);
+    return tex.channel(tx, ty, 0) >= kAlphaCutoff;
+  };
+  if (tex.width <= 0 || tex.height <= 0) {
+    out.whole = true;  // no mask to read: validate_scene should have refused it; block everything
+    return out;
+  }
+  if (!(std::abs(det) > 1e-14 * (ext.x * ext.x + ext.y * ext.y)) || !std::isfinite(det)) {
+    // Degenerate uv mapping (e.g. a mesh without uvs: all zero): the whole triangle reads one
+    // texel, the one at its uv centroid — the documented fallback.
+    const Vec2 c((uv[0] + uv[1] + uv[2]) / 3.0);
+    out.whole = tex.sample_scalar(c) >= kAlphaCutoff;
+    return out;
+  }
+
+  const double w = tex.width, h = tex.height;
+  const int64_t col_lo = static_cast<int64_t>(std::floor(lo.x * w)),
+                col_hi = static_cast<int64_t>(std::floor(hi.x * w));
+  const int64_t row_lo = static_cast<int64_t>(std::floor(lo.y * h)),
+                row_hi = static_cast<int64_t>(std::floor(hi.y * h));
+  const double cells =
+      (static_cast<double>(col_hi - col_lo) + 1.0) * (static_cast<double>(row_hi - row_lo) + 1.0);
+  if (!(cells <= kMaxAlphaCells)) {
+    throw Error("exact: an alpha-textured triangle spans " +
+                std::to_string(static_cast<long long>(cells)) + " texels of its mask (limit " +
+                std::to_string(static_cast<long long>(kMaxAlphaCells)) + ")");
+  }
+
+  struct Rect {
+    int64_t c0, c1, r0, r1;  // columns [c0, c1), rows [r0, r1)
+  };
+  struct Run {
+    int64_t c0, c1, r0;
+  };
+  std::vector<Rect> rects;
+  std::vector<Run> open, runs, still_open;
+  std::vector<DVec2> poly, tmp;
+  const DVec2 tri[3] = {uv[0], uv[1], uv[2]};
+
+  for (int64_t row = row_lo; row <= row_hi + 1; ++row) {
+    runs.clear();
+    if (row <= row_hi) {
+      poly.assign(tri, tri + 3);
+      clip_uv(poly, tmp, 1, static_cast<double>(row) / h, 1.0);
+      clip_uv(poly, tmp, 1, static_cast<double>(row + 1) / h, -1.0);
+      if (poly.size() >= 3) {
+        double umin = poly[0].x, umax = poly[0].x;
+        for (const DVec2& q : poly) {
+          umin = std::min(umin, q.x);
+          umax = std::max(umax, q.x);
+        }
+        const int64_t first =
+            std::clamp(static_cast<int64_t>(std::floor(umin * w)), col_lo, col_hi);
+        const int64_t last = std::clamp(static_cast<int64_t>(std::floor(umax * w)), col_lo, col_hi);
+        for (int64_t c = first; c <= last;) {
+          if (!opaque_at(c, row)) {
+            ++c;
+            continue;
+          }
+          int64_t end = c;
+          while (end <= last && opaque_at(end, row)) ++end;
+          runs.push_back({c == first ? col_lo : c, end == last + 1 ? col_hi + 1 : end, row});
+          c = end;
+        }
+      }
+    }
+    // Runs identical to an open one extend it; open runs not continued are closed.
+    still_open.clear();
+    for (const Run& o : open) {
+      const auto it = std::find_if(runs.begin(), runs.end(),
+                                   [&](const Run& r) { return r.c0 == o.c0 && r.c1 == o.c1; });
+      if (it != runs.end()) {
+        still_open.push_back(o);
+        runs.erase(it);
+      } else {
+        rects.push_back({o.c0, o.c1, o.r0, row});
+      }
+    }
+    for (const Run& r : runs) still_open.push_back(r);
+    open.swap(still_open);
+  }
+
+  if (rects.size() == 1 && rects[0].c0 == col_lo && rects[0].c1 == col_hi + 1 &&
+      rects[0].r0 == row_lo && rects[0].r1 == row_hi + 1) {
+    out.whole = true;
+    return out;
+  }
+  const double min_area = 1e-14 * std::abs(det);
+  for (const Rect& r : rects) {
+    poly.assign(tri, tri + 3);
+    clip_uv(poly, tmp, 0, static_cast<double>(r.c0) / w, 1.0);
+    clip_uv(poly, tmp, 0, static_cast<double>(r.c1) / w, -1.0);
+    clip_uv(poly, tmp, 1, static_cast<double>(r.r0) / h, 1.0);
+    clip_uv(poly, tmp, 1, static_cast<double>(r.r1) / h, -1.0);
+    if (poly.size() < 3 || std::abs(polygon_area(poly)) <= min_area) continue;
+    std::vector<DVec3> piece;
+    piece.reserve(poly.size());
+    for (const DVec2& q : poly) {
+      // Barycentrics of q in the uv triangle, applied to the world triangle (affine map).
+      const DVec2 d = q - uv[0];
+      const double b1 = cross2(d, e2) / det, b2 = cross2(e1, d) / det;
+      piece.push_back(world[0] + b1 * (world[1] - world[0]) + b2 * (world[2] - world[0]));
+    }
+    if (piece.size() <= static_cast<size_t>(kMaxPolygon)) {
+      out.pieces.push_back(std::move(piece));
+    } else {
+      // Triangle ∩ rectangle has at most 7 vertices; should rounding ever add more, split the
+      // convex piece into a fan so project_polygon never refuses it.
+      for (size_t j = 1; j + 1 < piece.size(); ++j)
+        out.pieces.push_back({piece[0], piece[j], piece[j + 1]});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
+  struct Item {
+    uint32_t mesh, tri;
+  };
+  std::vector<Item> items;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (!mesh.casts_shadows) continue;
+    const Material& mat = scene.material_of(mesh);
+    if (mat.transmittance >= 1.0f) continue;  // lets all light through: blocks nothing
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const DVec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+      const double area2 = glm::length(glm::cross(b - a, c - a));
+      // A zero-area (or non-finite) triangle blocks a set of measure zero.
+      if (!(area2 > 0.0) || !std::isfinite(area2)) continue;
+      items.push_back({static_cast<uint32_t>(m), static_cast<uint32_t>(t)});
+    }
+  }
+
+  // Alpha pieces: independent per triangle, so in parallel; flattened in item order afterwards
+  // (deterministic layout).
+  std::vector<AlphaPieces> alpha(items.size());
+  parallel_chunks(items.size(), 256, [&](size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) {
+      const Mesh& mesh = scene.meshes[items[k].mesh];
+      const Material& mat = scene.material_of(mesh);
+      if (mat.alpha_texture < 0) continue;
+      const size_t t = items[k].tri;
+      DVec2 uv[3];
+      DVec3 world[3];
+      for (int i = 0; i < 3; ++i) {
+        uv[i] = mesh.uvs.empty() ? DVec2(0.0) : DVec2(mesh.uvs[mesh.triangles[t].v[i]]);
+        world[i] = DVec3(mesh.vertex(t, i));
+      }
+      alpha[k] = decompose_alpha(scene.textures[mat.alpha_texture], uv, world);
+    }
+  });
+
+  std::vector<Bounds3> boxes;
+  occluders_.reserve(items.size());
+  boxes.reserve(items.size());
+  for (size_t k = 0; k < items.size(); ++k) {
+    const Mesh& mesh = scene.meshes[items[k].mesh];
+    const Material& mat = scene.material_of(mesh);
+    ExactOccluder o;
+    Bounds3 box;
+    for (int i = 0; i < 3; ++i) {
+      o.v[i] = DVec3(mesh.vertex(items[k].tri, i));
+      box.extend(mesh.vertex(items[k].tri, i));
+    }
+    o.transmittance = std::max(0.0, static_cast<double>(mat.transmittance));
+    if (mat.alpha_texture >= 0 && !alpha[k].whole) {
+      if (alpha[k].pieces.empty()) continue;  // all holes
+      o.cut = true;
+      o.piece_first = static_cast<uint32_t>(pieces_.size());
+      o.piece_count = static_cast<uint32_t>(alpha[k].pieces.size());
+      for (const std::vector<DVec3>& piece : alpha[k].pieces) {
+        pieces_.push_back(
+            {static_cast<uint32_t>(piece_vertices_.size()), static_cast<uint32_t>(piece.size())});
+        piece_vertices_.insert(piece_vertices_.end(), piece.begin(), piece.end());
+      }
+    }
+    occluders_.push_back(o);
+    boxes.push_back(box);
+  }
+  bvh_.build(boxes, leaf_size);
+}
+
+ExactLight::ExactLight(const Scene& scene, const Light& light, int disk_segments)
+    : light_(&light),
+      outline_(make_light_outline(
+          light.shape == LightShape::disk || light.shape == LightShape::sphere, disk_segments)) {
+  if (!light.is_textured()) return;
+  if (light.emission_texture >= static_cast<int>(scene.textures.size())) {
+    throw Error("exact: light '" + light.name + "' names emission texture " +
+                std::to_string(light.emission_texture) + " of " +
+                std::to_string(scene.textures.size()));
+  }
+  const Texture& tex = scene.textures[light.emission_texture];
+  if (tex.width <= 0 || tex.height <= 0)
+    throw Error("exact: empty emission texture '" + tex.name + "'");
+  texture_width_ = tex.width;
+  texture_height_ = tex.height;
+  texel_weight_.resize(static_cast<size_t>(tex.width) * tex.height);
+  // The same weight as the sampling methods give a sample in this texel (light_weights.hpp):
+  // the texture's RGB (grey for one channel) times the light's radiance.
+  for (int ty = 0; ty < tex.height; ++ty) {
+    for (int tx = 0; tx < tex.width; ++tx) {
+      const DVec3 rgb = tex.channels < 3 ? DVec3(tex.channel(tx, ty, 0))
+                                         : DVec3(tex.channel(tx, ty, 0), tex.channel(tx, ty, 1),
+                                                 tex.channel(tx, ty, 2));
+      texel_weight_[static_cast<size_t>(ty) * tex.width + tx] = rgb * DVec3(light.radiance);
+    }
+  }
+  total_weight_ =
+      texel_weighted_area({outline_.path}, texture_width_, texture_height_, texel_weight_);
+}
+
+}  // namespace penumbra

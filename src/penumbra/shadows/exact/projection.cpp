@@ -1,0 +1,466 @@
+#include "penumbra/shadows/exact/projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <tuple>
+
+namespace penumbra {
+
+namespace {
+
+using ClipperLib::cInt;
+using ClipperLib::IntPoint;
+using ClipperLib::Path;
+using ClipperLib::Paths;
+
+uint64_t splitmix(uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+cInt to_clipper(double uv) {
+  return static_cast<cInt>(std::llround(std::clamp(uv, 0.0, 1.0) * kUvScale));
+}
+
+/// Sutherland–Hodgman against one axis-aligned half-plane: keeps points with
+/// sign · (coordinate[axis] − bound) ≥ 0.
+void clip_axis(const std::vector<DVec2>& in, std::vector<DVec2>& out, int axis, double bound,
+               double sign) {
+  out.clear();
+  const size_t n = in.size();
+  if (n == 0) return;
+  for (size_t i = 0; i < n; ++i) {
+    const DVec2& prev = in[(i + n - 1) % n];
+    const DVec2& cur = in[i];
+    const double fp = sign * (prev[axis] - bound);
+    const double fc = sign * (cur[axis] - bound);
+    if ((fc >= 0.0) != (fp >= 0.0)) {
+      const double t = fp / (fp - fc);
+      DVec2 x = prev + t * (cur - prev);
+      x[axis] = bound;  // exactly on the window edge, whatever the rounding of t
+      out.push_back(x);
+    }
+    if (fc >= 0.0) out.push_back(cur);
+  }
+}
+
+double shoelace(const std::vector<DVec2>& poly) {
+  double twice = 0.0;
+  const size_t n = poly.size();
+  for (size_t i = 0; i < n; ++i) {
+    const DVec2& a = poly[i];
+    const DVec2& b = poly[(i + 1) % n];
+    twice += a.x * b.y - a.y * b.x;
+  }
+  return 0.5 * twice;
+}
+
+void to_uv(const Path& path, std::vector<DVec2>& out) {
+  out.clear();
+  for (const IntPoint& q : path)
+    out.emplace_back(static_cast<double>(q.X) / kUvScale, static_cast<double>(q.Y) / kUvScale);
+}
+
+}  // namespace
+
+bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
+                           const DVec3& edge_v, LightProjection& out) {
+  const DVec3 cross = glm::cross(edge_u, edge_v);
+  const double cross_len = glm::length(cross);
+  const double size = std::max(glm::length(edge_u), glm::length(edge_v));
+  if (!(cross_len > 1e-12 * size * size) || !std::isfinite(cross_len)) return false;
+  const DVec3 n = cross / cross_len;
+  const double D = glm::dot(corner - receiver, n);
+  if (!(std::abs(D) > 1e-9 * size)) return false;  // receiver in the light's plane (or NaN)
+
+  // Dual basis of (edge_u, edge_v) from the inverse Gram matrix; det = |edge_u × edge_v|².
+  const double g00 = glm::dot(edge_u, edge_u), g01 = glm::dot(edge_u, edge_v),
+               g11 = glm::dot(edge_v, edge_v);
+  const double det = cross_len * cross_len;
+  const DVec3 a = (g11 * edge_u - g01 * edge_v) / det;
+  const DVec3 b = (g00 * edge_v - g01 * edge_u) / det;
+
+  out.origin = receiver;
+  out.to_w = n / D;
+  out.to_u = a + glm::dot(receiver - corner, a) * out.to_w;
+  out.to_v = b + glm::dot(receiver - corner, b) * out.to_w;
+
+  // The six faces of the pyramid, as linear inequalities in x − p: −U ≤ 0, U − W ≤ 0 (the side
+  // planes through p and the edges u = 0, u = 1), the same for V, W ≤ 1 (the light plane) and
+  // −W ≤ 0 (the plane through p parallel to the light).
+  const DVec3 normals[6] = {
+      -out.to_u, out.to_u - out.to_w, -out.to_v, out.to_v - out.to_w, out.to_w, -out.to_w};
+  const double offsets[6] = {0.0, 0.0, 0.0, 0.0, 1.0, 0.0};
+  for (int k = 0; k < 6; ++k) {
+    out.planes[k].n = normals[k];
+    out.planes[k].d = offsets[k] + glm::dot(normals[k], receiver);
+  }
+  return true;
+}
+
+bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
+  for (const LightProjection::Plane& plane : proj.planes) {
+    double min_dot = 0.0, magnitude = std::abs(plane.d);
+    for (int i = 0; i < 3; ++i) {
+      const double c = plane.n[i] >= 0.0 ? lo[i] : hi[i];
+      min_dot += plane.n[i] * c;
+      magnitude += std::abs(plane.n[i]) * std::max(std::abs(static_cast<double>(lo[i])),
+                                                   std::abs(static_cast<double>(hi[i])));
+    }
+    // The relative tolerance keeps the test conservative under rounding (never culls a box that
+    // touches the pyramid).
+    if (min_dot > plane.d + 1e-9 * magnitude) return false;
+  }
+  return true;
+}
+
+bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                     ClipperLib::Path& out) {
+  out.clear();
+  if (count < 3 || count > kMaxPolygon) return false;
+  // Each of the six clips adds at most one vertex to a convex polygon.
+  constexpr int kCapacity = kMaxPolygon + 8;
+  DVec3 buf_a[kCapacity], buf_b[kCapacity];
+  DVec3* in = buf_a;
+  DVec3* next = buf_b;
+  int n = count;
+  for (int i = 0; i < count; ++i) in[i] = proj.homogeneous(vertices[i]);
+
+  // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
+  const auto f = [](int plane, const DVec3& h) {
+    switch (plane) {
+      case 0:
+        return h.z - kMinW;
+      case 1:
+        return 1.0 - h.z;
+      case 2:
+        return h.x;
+      case 3:
+        return h.z - h.x;
+      case 4:
+        return h.y;
+      default:
+        return h.z - h.y;
+    }
+  };
+  for (int plane = 0; plane < 6 && n > 0; ++plane) {
+    int m = 0;
+    bool all_inside = true;
+    double fv[kCapacity];
+    for (int i = 0; i < n; ++i) {
+      fv[i] = f(plane, in[i]);
+      all_inside &= fv[i] >= 0.0;
+    }
+    if (all_inside) continue;
+    for (int i = 0; i < n; ++i) {
+      const int j = (i + n - 1) % n;  // previous vertex
+      if ((fv[i] >= 0.0) != (fv[j] >= 0.0)) {
+        // Interpolate from the lexicographically smaller end: an edge shared by two polygons
+        // (traversed in opposite directions) then clips to bit-identical points, so its two
+        // copies still cancel in cancel_shared_edges.
+        const bool j_first =
+            std::tie(in[j].x, in[j].y, in[j].z) < std::tie(in[i].x, in[i].y, in[i].z);
+        const int a = j_first ? j : i, b = j_first ? i : j;
+        const double t = fv[a] / (fv[a] - fv[b]);
+        next[m++] = in[a] + t * (in[b] - in[a]);
+      }
+      if (fv[i] >= 0.0) next[m++] = in[i];
+    }
+    std::swap(in, next);
+    n = m;
+  }
+  if (n < 3) return false;
+
+  out.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    const DVec3& h = in[i];
+    const IntPoint q(to_clipper(h.x / h.z), to_clipper(h.y / h.z));
+    if (!out.empty() && out.back() == q) continue;
+    out.push_back(q);
+  }
+  while (out.size() > 1 && out.back() == out.front()) out.pop_back();
+  if (out.size() < 3) {
+    out.clear();
+    return false;
+  }
+  const double area = ClipperLib::Area(out);
+  if (area == 0.0) {
+    out.clear();
+    return false;
+  }
+  // One orientation for every input polygon: under the non-zero fill rule two overlapping
+  // polygons of opposite orientation would cancel to a hole.
+  if (area < 0.0) std::reverse(out.begin(), out.end());
+  return true;
+}
+
+LightOutline make_light_outline(bool round, int disk_segments) {
+  LightOutline o;
+  o.round = round;
+  const cInt s = static_cast<cInt>(kUvScale);
+  if (!round) {
+    o.path = {IntPoint(0, 0), IntPoint(s, 0), IntPoint(s, s), IntPoint(0, s)};
+    o.area = ClipperLib::Area(o.path);
+    return o;
+  }
+  // A round light (disk, sphere silhouette) emits inside the circle C of radius r = 0.5 at
+  // (0.5, 0.5). Clipper needs polygons, so C is replaced by the regular N-gon P of the same area:
+  // circumradius R = r·sqrt(2π / (N·sin(2π/N))).
+  // Error bound, with h = π/N: to second order P's boundary lies radially between −r·h²/6 (edge
+  // midpoints) and +r·h²/3 (vertices) of C's. Crudely, |P Δ C| ≤ perimeter · r·h²/3, so the
+  // visible fraction moves by at most 2h²/3 (1.0e-4 for N = 256). Integrating the deviation over
+  // each edge is sharper: |P ∖ C| = |C ∖ P| = 2h²/(9√3) · |C|. For a blocked set U,
+  // V_C = 1 − |U ∩ C|/|C| and V_P = 1 − |U ∩ P|/|P| with |P| = |C| differ by
+  // |U ∩ (C ∖ P)| − |U ∩ (P ∖ C)|, whose magnitude is at most |C ∖ P|, hence
+  //   |V_P − V_C| ≤ 2h²/(9√3) ≈ 0.128·(π/N)²:  1.9e-5 for N = 256 (3.1e-4 for N = 64,
+  //   4.8e-6 for N = 512).
+  // We divide by P's own (rounded) area, so V_P is exact for P. The vertices sit at angles
+  // (2k+1)π/N: for N a multiple of 4 the extreme points along u and v are edge midpoints at the
+  // apothem R·cos(h) < r, so P stays inside the uv square the occluder polygons are clipped to
+  // (other N: the few vertices that stick out, by at most r·h²/3, are clamped onto the square).
+  const int n = std::max(3, disk_segments);
+  const double r = 0.5;
+  const double h = kPi / n;
+  const double R = r * std::sqrt(2.0 * kPi / (n * std::sin(2.0 * h)));
+  o.path.reserve(n);
+  for (int k = 0; k < n; ++k) {
+    const double theta = (2 * k + 1) * h;
+    const IntPoint q(to_clipper(0.5 + R * std::cos(theta)), to_clipper(0.5 + R * std::sin(theta)));
+    if (!o.path.empty() && o.path.back() == q) continue;
+    o.path.push_back(q);
+  }
+  o.area = ClipperLib::Area(o.path);
+  return o;
+}
+
+double paths_area(const Paths& paths) {
+  double a = 0.0;
+  for (const Path& p : paths) a += ClipperLib::Area(p);
+  return a;
+}
+
+Paths cancel_shared_edges(const Paths& polygons) {
+  // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
+  // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
+  // time). Points pack into 64 bits since coordinates are in [0, 2^30).
+  const auto less = [](const IntPoint& a, const IntPoint& b) {
+    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
+  };
+  struct Slot {
+    IntPoint lo, hi;
+    int net = 0;
+    bool used = false;
+  };
+  size_t count = 0;
+  for (const Path& p : polygons) count += p.size();
+  size_t capacity = 16;
+  while (capacity < 2 * count) capacity *= 2;
+  thread_local std::vector<Slot> table;  // reused: no allocation per pixel
+  table.assign(capacity, Slot{});
+  const auto pack = [](const IntPoint& q) {
+    return (static_cast<uint64_t>(q.X) << 32) ^ static_cast<uint64_t>(q.Y);
+  };
+  for (const Path& p : polygons) {
+    for (size_t i = 0; i < p.size(); ++i) {
+      const IntPoint& a = p[i];
+      const IntPoint& b = p[(i + 1) % p.size()];
+      if (a == b) continue;
+      const bool forward = less(a, b);
+      const IntPoint& lo = forward ? a : b;
+      const IntPoint& hi = forward ? b : a;
+      size_t h = static_cast<size_t>(splitmix(pack(lo) * 0x9e3779b97f4a7c15ull ^ pack(hi))) &
+                 (capacity - 1);
+      while (table[h].used && !(table[h].lo == lo && table[h].hi == hi))
+        h = (h + 1) & (capacity - 1);
+      Slot& slot = table[h];
+      if (!slot.used) {
+        slot.used = true;
+        slot.lo = lo;
+        slot.hi = hi;
+      }
+      slot.net += forward ? 1 : -1;
+    }
+  }
+  // The surviving directed edges, sorted by their start.
+  struct Directed {
+    IntPoint from, to;
+  };
+  std::vector<Directed> kept;
+  for (const Slot& slot : table) {
+    for (int k = 0; k < std::abs(slot.net); ++k)
+      kept.push_back(slot.net > 0 ? Directed{slot.lo, slot.hi} : Directed{slot.hi, slot.lo});
+  }
+  std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
+    if (x.from != y.from) return less(x.from, y.from);
+    return less(x.to, y.to);
+  });
+  // Trace closed walks. Every vertex has as many kept edges in as out (each polygon is a cycle
+  // and a cancelled pair removes one of each), so a walk can always leave any vertex it entered
+  // and must end where it started. Edges leaving one vertex are consumed in order via a cursor at
+  // the first edge of their group.
+  std::vector<size_t> cursor(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
+  const auto group_of = [&](const IntPoint& v) {
+    return static_cast<size_t>(
+        std::lower_bound(kept.begin(), kept.end(), v,
+                         [&](const Directed& e, const IntPoint& q) { return less(e.from, q); }) -
+        kept.begin());
+  };
+  const auto group_end = [&](size_t g) {
+    size_t e = g;
+    while (e < kept.size() && kept[e].from == kept[g].from) ++e;
+    return e;
+  };
+  Paths loops;
+  for (size_t g = 0; g < kept.size();) {
+    const size_t end = group_end(g);
+    while (cursor[g] < end) {
+      const IntPoint start = kept[g].from;
+      Path loop{start};
+      IntPoint at = kept[cursor[g]++].to;
+      while (at != start) {
+        loop.push_back(at);
+        const size_t h = group_of(at);
+        if (h >= kept.size() || kept[h].from != at || cursor[h] >= group_end(h))
+          break;  // unreachable
+        at = kept[cursor[h]++].to;
+      }
+      if (loop.size() >= 3) loops.push_back(std::move(loop));
+    }
+    g = end;
+  }
+  return loops;
+}
+
+Paths union_polygons(const Paths& polygons, size_t group) {
+  group = std::max<size_t>(group, 2);
+  std::vector<Paths> level;
+  level.reserve(polygons.size() / group + 1);
+  for (size_t i = 0; i < polygons.size(); i += group) {
+    ClipperLib::Clipper c;
+    for (size_t k = i; k < std::min(polygons.size(), i + group); ++k)
+      c.AddPath(polygons[k], ClipperLib::ptSubject, true);
+    level.emplace_back();
+    c.Execute(ClipperLib::ctUnion, level.back(), ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  }
+  while (level.size() > 1) {
+    std::vector<Paths> next;
+    next.reserve(level.size() / 2 + 1);
+    for (size_t i = 0; i < level.size(); i += 2) {
+      if (i + 1 == level.size()) {
+        next.push_back(std::move(level[i]));
+        continue;
+      }
+      ClipperLib::Clipper c;
+      c.AddPaths(level[i], ClipperLib::ptSubject, true);
+      c.AddPaths(level[i + 1], ClipperLib::ptClip, true);
+      next.emplace_back();
+      c.Execute(ClipperLib::ctUnion, next.back(), ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    }
+    level.swap(next);
+  }
+  return level.empty() ? Paths{} : std::move(level[0]);
+}
+
+std::vector<LightRegion> visible_regions(const LightOutline& outline, const Paths& opaque,
+                                         const std::vector<SemiPolygon>& semi) {
+  std::vector<LightRegion> regions(1);
+  if (opaque.empty()) {
+    regions[0].paths = {outline.path};
+  } else {
+    ClipperLib::Clipper c;
+    c.AddPath(outline.path, ClipperLib::ptSubject, true);
+    const Paths loops = opaque.size() > 1 ? cancel_shared_edges(opaque) : opaque;
+    if (loops.size() <= kUnionGroup) {
+      c.AddPaths(loops, ClipperLib::ptClip, true);
+    } else {
+      c.AddPaths(union_polygons(loops, kUnionGroup), ClipperLib::ptClip, true);
+    }
+    c.Execute(ClipperLib::ctDifference, regions[0].paths, ClipperLib::pftNonZero,
+              ClipperLib::pftNonZero);
+  }
+  if (regions[0].paths.empty() || semi.empty())
+    return regions[0].paths.empty() ? std::vector<LightRegion>{} : regions;
+
+  // Groups of equal transmittance, in order of first appearance (deterministic).
+  std::vector<double> values;
+  for (const SemiPolygon& p : semi)
+    if (std::find(values.begin(), values.end(), p.transmittance) == values.end())
+      values.push_back(p.transmittance);
+
+  const cInt s = static_cast<cInt>(kUvScale);
+  const Path reversed_square = {IntPoint(0, 0), IntPoint(0, s), IntPoint(s, s), IntPoint(s, 0)};
+  Paths group;
+  for (const double t : values) {
+    group.clear();
+    for (const SemiPolygon& p : semi)
+      if (p.transmittance == t) group.push_back(p.path);
+    const Paths loops = group.size() > 1 ? cancel_shared_edges(group) : group;
+    const size_t count = regions.size();
+    for (size_t r = 0; r < count; ++r) {
+      double scale = 1.0;  // t^(k−1)
+      for (size_t k = 1; k <= group.size(); ++k) {
+        ClipperLib::Clipper c;
+        c.AddPaths(loops, ClipperLib::ptSubject, true);
+        for (size_t copy = 1; copy < k; ++copy)
+          c.AddPath(reversed_square, ClipperLib::ptSubject, true);
+        c.AddPaths(regions[r].paths, ClipperLib::ptClip, true);
+        LightRegion level;
+        c.Execute(ClipperLib::ctIntersection, level.paths, ClipperLib::pftPositive,
+                  ClipperLib::pftNonZero);
+        if (level.paths.empty()) break;  // no point is covered k times
+        level.weight = -regions[r].weight * (1.0 - t) * scale;
+        regions.push_back(std::move(level));
+        scale *= t;
+        if (scale < 1e-12) break;
+      }
+    }
+  }
+  return regions;
+}
+
+DVec3 texel_weighted_area(const Paths& paths, int width, int height,
+                          const std::vector<DVec3>& texel_weight) {
+  DVec3 sum(0.0);
+  std::vector<DVec2> poly, row, tmp, cell;
+  for (const Path& path : paths) {
+    to_uv(path, poly);
+    if (poly.size() < 3) continue;
+    double vmin = poly[0].y, vmax = poly[0].y;
+    for (const DVec2& q : poly) {
+      vmin = std::min(vmin, q.y);
+      vmax = std::max(vmax, q.y);
+    }
+    const int ty0 = std::clamp(static_cast<int>(std::floor(vmin * height)), 0, height - 1);
+    const int ty1 = std::clamp(static_cast<int>(std::floor(vmax * height)), 0, height - 1);
+    for (int ty = ty0; ty <= ty1; ++ty) {
+      // Strip [ty/h, (ty+1)/h]; the last strip reaches v = 1 exactly.
+      clip_axis(poly, tmp, 1, static_cast<double>(ty) / height, 1.0);
+      clip_axis(tmp, row, 1, static_cast<double>(ty + 1) / height, -1.0);
+      if (row.size() < 3) continue;
+      double umin = row[0].x, umax = row[0].x;
+      for (const DVec2& q : row) {
+        umin = std::min(umin, q.x);
+        umax = std::max(umax, q.x);
+      }
+      const int tx0 = std::clamp(static_cast<int>(std::floor(umin * width)), 0, width - 1);
+      const int tx1 = std::clamp(static_cast<int>(std::floor(umax * width)), 0, width - 1);
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        double area = 0.0;
+        if (tx0 == tx1) {
+          area = shoelace(row);
+        } else {
+          clip_axis(row, tmp, 0, static_cast<double>(tx) / width, 1.0);
+          clip_axis(tmp, cell, 0, static_cast<double>(tx + 1) / width, -1.0);
+          if (cell.size() >= 3) area = shoelace(cell);
+        }
+        if (area != 0.0) sum += area * texel_weight[static_cast<size_t>(ty) * width + tx];
+      }
+    }
+  }
+  return sum;
+}
+
+}  // namespace penumbra

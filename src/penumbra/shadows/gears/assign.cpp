@@ -1,0 +1,240 @@
+#include "penumbra/shadows/gears/assign.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <cmath>
+
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/core/stats.hpp"
+
+namespace penumbra::gears {
+
+namespace {
+
+/// Inclusive cell range of a footprint; empty when x0 > x1.
+struct CellRect {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  bool empty() const { return x0 > x1 || y0 > y1; }
+  uint64_t area() const { return empty() ? 0 : uint64_t(x1 - x0 + 1) * uint64_t(y1 - y0 + 1); }
+};
+
+CellRect intersect(const CellRect& a, const CellRect& b) {
+  return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+}
+
+/// The triangle polygon clipped to z ≤ z_cut (Sutherland–Hodgman, one plane): ≤ 4 vertices.
+int clip_far(const DVec3 tri[3], double z_cut, DVec3 out[4]) {
+  int n = 0;
+  for (int i = 0; i < 3; ++i) {
+    const DVec3& a = tri[i];
+    const DVec3& b = tri[(i + 1) % 3];
+    const bool ain = a.z <= z_cut, bin = b.z <= z_cut;
+    if (ain) out[n++] = a;
+    if (ain != bin) {
+      const double t = (z_cut - a.z) / (b.z - a.z);
+      out[n++] = a + t * (b - a);
+      out[n - 1].z = z_cut;
+    }
+  }
+  return n;
+}
+
+/// 2D AABB, in cells, of the shadow volume of `tri` truncated at depth z_t: the polygon's vertices
+/// and their extrusions through every light corner to z_t, projected by C [seed 004 §3.1 (3.3)].
+/// Conservative: for a fixed blocking point H the extrusions of the light through H are a central
+/// projection of a convex set, and C's projection is affine on the plane z = z_t, so the projected
+/// volume lies in the convex hull of these points.
+CellRect footprint(const GridCamera& cam, const DVec3 tri[3], double z_t) {
+  DVec3 poly[4];
+  const int n = clip_far(tri, z_t, poly);
+  if (n == 0) return {};
+  const DVec3 eye(cam.eye);
+  const DVec2 lo_grid(cam.grid_lo), scale(cam.cell_scale);
+  const double plane = cam.plane_z;
+  DVec2 lo(1e300), hi(-1e300);
+  auto add = [&](const DVec3& q) {
+    const double s = (plane - eye.z) / (q.z - eye.z);
+    const DVec2 g((eye.x + (q.x - eye.x) * s - lo_grid.x) * scale.x,
+                  (eye.y + (q.y - eye.y) * s - lo_grid.y) * scale.y);
+    lo = glm::min(lo, g);
+    hi = glm::max(hi, g);
+  };
+  for (int i = 0; i < n; ++i) {
+    add(poly[i]);
+    for (const Vec3& lf : cam.light_corners) {
+      const DVec3 l(lf);
+      add(l + (poly[i] - l) * ((z_t - l.z) / (poly[i].z - l.z)));
+    }
+  }
+  // Float rounding of the sample projections is far below a thousandth of a cell.
+  constexpr double kMargin = 1e-3;
+  lo -= kMargin;
+  hi += kMargin;
+  if (!(hi.x >= 0.0) || !(hi.y >= 0.0) || !(lo.x < cam.res_x) || !(lo.y < cam.res_y)) return {};
+  CellRect r;
+  r.x0 = static_cast<int>(std::floor(std::max(lo.x, 0.0)));
+  r.y0 = static_cast<int>(std::floor(std::max(lo.y, 0.0)));
+  r.x1 = static_cast<int>(std::floor(std::min(hi.x, cam.res_x - 1.0)));
+  r.y1 = static_cast<int>(std::floor(std::min(hi.y, cam.res_y - 1.0)));
+  return r;
+}
+
+}  // namespace
+
+PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& pixels,
+                         const std::vector<Vec3>& points) {
+  PixelCells pc;
+  const size_t n = pixels.size();
+  pc.sorted.resize(n);
+  parallel_chunks(n, 4096, [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i)
+      pc.sorted[i] = {static_cast<uint32_t>(camera.cell_of(points[i])), static_cast<uint32_t>(i)};
+  });
+  const uint32_t cells = static_cast<uint32_t>(camera.cell_count());
+  radix_sort_by_cell(pc.sorted, cells);
+  cell_ranges(pc.sorted, cells, pc.begin, pc.end);
+  pc.max_z.assign(cells, -kInfinity);
+  pc.sample_z.resize(n);
+  parallel_chunks(cells, 256, [&](size_t b, size_t e) {
+    for (size_t c = b; c < e; ++c)
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i)
+        pc.max_z[c] = std::max(pc.max_z[c], points[pc.sorted[i].item].z);
+  });
+  // Within a cell, nearest samples first: runs of consecutive samples then span few depths, so a
+  // work item can drop the candidates that lie entirely deeper than its deepest sample.
+  // Sorted as 64-bit keys (depth bits, index): depths are ≥ +0 here, whose IEEE bit patterns
+  // order like the values; ties go to the lower index.
+  parallel_chunks(cells, 64, [&](size_t b, size_t e) {
+    std::vector<uint64_t> keys;
+    for (size_t c = b; c < e; ++c) {
+      keys.clear();
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
+        const uint32_t item = pc.sorted[i].item;
+        keys.push_back(uint64_t{std::bit_cast<uint32_t>(points[item].z + 0.0f)} << 32 | item);
+      }
+      std::sort(keys.begin(), keys.end());
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
+        const uint32_t item = static_cast<uint32_t>(keys[i - pc.begin[c]]);
+        pc.sorted[i].item = pixels[item];  // entries name the caller's pixel index from here on
+        pc.sample_z[i] = points[item].z;
+      }
+    }
+  });
+  return pc;
+}
+
+CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, int side,
+                               const PixelCells& cells, const AssignOptions& options,
+                               AssignStats& stats) {
+  const size_t n = soup.size();
+  const double sgn = side < 0 ? -1.0 : 1.0;
+  std::vector<CellRect> rects(n);
+  std::vector<float> zmins(n);
+  std::vector<uint64_t> counts(n, 0);
+  std::atomic<uint64_t> behind{0}, beyond{0}, straddle{0}, no_retraction{0}, aabb_cells{0};
+  const double far_z = cam.far_z;
+  const double straddle_z = cam.light_max_z + 1e-6 * std::max(1.0, std::abs(far_z));
+  const CellRect whole{0, 0, cam.res_x - 1, cam.res_y - 1};
+
+  auto cell_ok = [&](int c, float zmin) {
+    const float mz = cells.max_z[c];
+    return options.cell_depth_cull ? mz >= zmin : mz > -kInfinity;
+  };
+
+  // Pass 1 (count): footprint, retraction, cellsN per triangle.
+  auto t0 = std::chrono::steady_clock::now();
+  parallel_chunks(n, 1024, [&](size_t b, size_t e) {
+    uint64_t l_behind = 0, l_beyond = 0, l_straddle = 0, l_noret = 0, l_aabb = 0;
+    for (size_t t = b; t < e; ++t) {
+      DVec3 tri[3];
+      for (int c = 0; c < 3; ++c) tri[c] = DVec3(soup.x[c][t], soup.y[c][t], sgn * soup.z[c][t]);
+      const double zmin = std::min({tri[0].z, tri[1].z, tri[2].z});
+      const double zmax = std::max({tri[0].z, tri[1].z, tri[2].z});
+      zmins[t] = static_cast<float>(zmin);
+      CellRect r;
+      if (zmax < cam.light_min_z) {
+        ++l_behind;  // every segment sample→light lies in front of the light plane
+      } else if (zmin > far_z) {
+        ++l_beyond;
+      } else if (zmin <= straddle_z) {
+        // Reaches the light's depth: its extrusion is unbounded; conservatively the whole grid.
+        ++l_straddle;
+        r = whole;
+      } else {
+        r = footprint(cam, tri, far_z);
+        if (r.empty()) ++l_beyond;
+        if (!r.empty() && options.retraction) {
+          // Retraction [seed 004 §3.1]: extrude only to the deepest sample in the touched cells.
+          float zr = -kInfinity;
+          uint64_t nonempty = 0;
+          for (int y = r.y0; y <= r.y1; ++y)
+            for (int x = r.x0; x <= r.x1; ++x) {
+              const float mz = cells.max_z[y * cam.res_x + x];
+              zr = std::max(zr, mz);
+              nonempty += options.cell_depth_cull ? mz >= zmins[t] : mz > -kInfinity;
+            }
+          l_noret += nonempty;
+          r = zr < zmin ? CellRect{} : intersect(r, footprint(cam, tri, zr));
+        }
+      }
+      uint64_t count = 0;
+      if (!r.empty()) {
+        l_aabb += r.area();
+        for (int y = r.y0; y <= r.y1; ++y)
+          for (int x = r.x0; x <= r.x1; ++x) count += cell_ok(y * cam.res_x + x, zmins[t]);
+        if (!options.retraction) l_noret += count;
+      }
+      rects[t] = r;
+      counts[t] = count;
+    }
+    behind += l_behind;
+    beyond += l_beyond;
+    straddle += l_straddle;
+    no_retraction += l_noret;
+    aabb_cells += l_aabb;
+  });
+  stats.count_ms += elapsed_ms(t0);
+
+  // Prefix sum of cellsN [seed 004 §4.2].
+  t0 = std::chrono::steady_clock::now();
+  std::vector<uint64_t> offsets(n + 1, 0);
+  for (size_t t = 0; t < n; ++t) offsets[t + 1] = offsets[t] + counts[t];
+  stats.prefix_ms += elapsed_ms(t0);
+
+  // Pass 2: write the (triID, cellID) pairs.
+  t0 = std::chrono::steady_clock::now();
+  CellTriangles out;
+  out.zmin = zmins;
+  out.pairs.resize(offsets[n]);
+  parallel_chunks(n, 1024, [&](size_t b, size_t e) {
+    for (size_t t = b; t < e; ++t) {
+      const CellRect& r = rects[t];
+      if (r.empty()) continue;
+      uint64_t o = offsets[t];
+      for (int y = r.y0; y <= r.y1; ++y)
+        for (int x = r.x0; x <= r.x1; ++x) {
+          const int c = y * cam.res_x + x;
+          if (cell_ok(c, zmins[t]))
+            out.pairs[o++] = {static_cast<uint32_t>(c), static_cast<uint32_t>(t)};
+        }
+    }
+  });
+  stats.write_ms += elapsed_ms(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  radix_sort_by_cell(out.pairs, static_cast<uint32_t>(cam.cell_count()));
+  cell_ranges(out.pairs, static_cast<uint32_t>(cam.cell_count()), out.begin, out.end);
+  stats.sort_ms += elapsed_ms(t0);
+
+  stats.pairs += out.pairs.size();
+  stats.pairs_without_retraction += no_retraction.load();
+  stats.aabb_cells += aabb_cells.load();
+  stats.culled_behind_light += behind.load();
+  stats.culled_beyond_samples += beyond.load();
+  stats.straddling_light += straddle.load();
+  return out;
+}
+
+}  // namespace penumbra::gears

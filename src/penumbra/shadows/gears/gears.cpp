@@ -1,0 +1,589 @@
+// `gears`: exact soft shadows from per-pixel sets of potentially blocking triangles [seed 004 §3,
+// §4.2] on the CPU. Steps: (3.1) grid camera C over the pixel samples; (3.2) samples → cells;
+// (3.3) triangles → cells through their projected shadow volumes, with the retraction; (4) per
+// pixel, the candidate triangles of its cell rasterized onto the k×k light-sample bitmask by edge
+// planes (batched SIMD setup, row spans) or by the LUT [§4.3]; (5) V from the bits, weighted by
+// light_weights.hpp exactly as `raytrace` weights its rays.
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/render/embree_scene.hpp"
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/gears/assign.hpp"
+#include "penumbra/shadows/gears/grid_camera.hpp"
+#include "penumbra/shadows/gears/item_cull.hpp"
+#include "penumbra/shadows/gears/lut.hpp"
+#include "penumbra/shadows/gears/raster.hpp"
+#include "penumbra/shadows/light_weights.hpp"
+#include "penumbra/shadows/registry.hpp"
+
+namespace penumbra {
+
+namespace {
+
+using namespace gears;
+
+struct Options {
+  int grid = 128;
+  bool lut = false;
+  int lut_resolution = 256;
+  AssignOptions assign;
+  float eye_distance = 1.0f;
+  int chunk = 32;
+};
+
+/// Per-thread buffers of the rasterization pass.
+struct Scratch {
+  CandidateBatch batch;
+  LineBatch lines;
+  std::vector<Vec2> light_uv;
+  std::vector<float> su, sv, vis, trans;
+  std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
+  std::vector<uint64_t> cover, blocked;
+  uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
+};
+
+class Gears final : public ShadowMethod {
+ public:
+  explicit Gears(const Options& o) : opt_(o) {}
+
+  Visibility compute(const ShadowContext& ctx) override {
+    const GBuffer& g = ctx.gbuffer;
+    const Light& light = ctx.light;
+    const int n = ctx.samples.count();
+    const int k = ctx.samples.k();
+    const bool point = light.shape == LightShape::point;
+    const bool sphere = light.shape == LightShape::sphere;
+    const bool per_pixel_samples = ctx.samples.per_pixel();
+    const Texture* emission =
+        light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
+    const int words = (n + 63) / 64;
+
+    Visibility vis;
+    vis.lit = Image<float>(g.width, g.height, 1.0f);
+    if (emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    // The bits are always produced; kept in the result only when asked for.
+    SampleMasks masks(g.width, g.height, n);
+
+    // Which rasterizer: row spans need the regular grid (sample i in cell (i % k, i / k) at its
+    // centre); the LUT needs shared positions; everything else tests sample by sample.
+    const bool grid_pattern =
+        ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel_samples;
+    const bool use_lut = opt_.lut && !per_pixel_samples && !point;
+    const bool use_rows = !use_lut && grid_pattern && k <= 32 && !point;
+
+    // ---- Step 2/3.2 prologue: active pixel samples in light space.
+    auto t0 = std::chrono::steady_clock::now();
+    std::vector<uint32_t> active;
+    uint64_t back_facing = 0;
+    for (size_t i = 0; i < g.pixel_count(); ++i) {
+      if (ctx.receivers[i] == kActive)
+        active.push_back(static_cast<uint32_t>(i));
+      else
+        back_facing += ctx.receivers[i] == kBackFacing;
+    }
+    const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
+    Vec3 toward = frame0.emit_normal;
+    if (point || sphere) {
+      Bounds3 b;
+      for (uint32_t i : active) b.extend(g.shadow_origin(i));
+      toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
+    }
+    const LightSpace space = make_light_space(light, frame0, toward, +1);
+    std::vector<Vec3> p_light(active.size());
+    parallel_chunks(active.size(), 4096, [&](size_t b, size_t e) {
+      for (size_t a = b; a < e; ++a) p_light[a] = space.to_light(g.shadow_origin(active[a]));
+    });
+
+    // Occluders in light space.
+    TriangleSoup soup;
+    bool any_translucent = false;
+    for (size_t m = 0; m < ctx.scene.meshes.size(); ++m) {
+      const Mesh& mesh = ctx.scene.meshes[m];
+      if (!mesh.casts_shadows) continue;
+      const bool opaque = ctx.scene.material_of(mesh).is_opaque();
+      any_translucent |= !opaque;
+      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        soup.mesh.push_back(static_cast<uint32_t>(m));
+        soup.prim.push_back(static_cast<uint32_t>(t));
+        soup.opaque.push_back(opaque ? 1 : 0);
+      }
+    }
+    const size_t tri_count = soup.size();
+    for (int c = 0; c < 3; ++c) {
+      soup.x[c].resize(tri_count);
+      soup.y[c].resize(tri_count);
+      soup.z[c].resize(tri_count);
+    }
+    parallel_chunks(tri_count, 4096, [&](size_t b, size_t e) {
+      for (size_t t = b; t < e; ++t) {
+        const Mesh& mesh = ctx.scene.meshes[soup.mesh[t]];
+        for (int c = 0; c < 3; ++c) {
+          const Vec3 q = space.to_light(mesh.vertex(soup.prim[t], c));
+          soup.x[c][t] = q.x, soup.y[c][t] = q.y, soup.z[c][t] = q.z;
+        }
+      }
+    });
+    vis.times.add("light_space_setup", elapsed_ms(t0));
+
+    // Light corners in light space, for the extrusion.
+    std::vector<Vec3> corners;
+    float light_max_z = 0.0f;
+    if (point) {
+      corners = {Vec3(0.0f)};
+    } else {
+      const float r = sphere ? light.radius : 0.0f;
+      light_max_z = r;
+      for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
+        for (int c = 0; c < 4; ++c)
+          corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
+    }
+
+    // Shared sample positions (light uv) and, for round lights, which emit.
+    std::vector<Vec2> shared(n);
+    if (!per_pixel_samples) ctx.samples.pixel_samples(0, 0, shared);
+    Vec2 uv_lo(0.0f), uv_hi(1.0f);
+    if (!per_pixel_samples) {
+      uv_lo = Vec2(kInfinity), uv_hi = Vec2(-kInfinity);
+      for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
+    }
+    std::unique_ptr<EdgeLut> lut;
+    if (use_lut) lut = std::make_unique<EdgeLut>(shared, opt_.lut_resolution, opt_.lut_resolution);
+    std::vector<float> shared_u(n), shared_v(n);
+    for (int s = 0; s < n; ++s) shared_u[s] = shared[s].x, shared_v[s] = shared[s].y;
+    std::vector<uint64_t> emit_words(words, 0);
+    int emit_count = 0;
+    for (int s = 0; s < n; ++s)
+      if (!per_pixel_samples && frame0.emits(shared[s]))
+        emit_words[s >> 6] |= uint64_t{1} << (s & 63), ++emit_count;
+    const bool simple_weights = !emission && !per_pixel_samples && !point;
+
+    AssignStats astats;
+    std::atomic<uint64_t> from_grid{0}, tested{0}, in_volume{0}, necessary{0}, early_full{0};
+    uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
+    double raster_ms = 0.0, project_ms = 0.0;
+    size_t peak_bytes = 0;
+    // Per-pixel transmittance (semi-opaque occluders only).
+    std::vector<float> trans;
+    if (any_translucent) trans.assign(static_cast<size_t>(active.size()) * n, 1.0f);
+    std::vector<uint32_t> active_slot(g.pixel_count(), 0);
+    for (size_t a = 0; a < active.size(); ++a) active_slot[active[a]] = static_cast<uint32_t>(a);
+
+    tbb::enumerable_thread_specific<Scratch> scratch;
+
+    // One grid pass per side of the light plane that has samples.
+    for (int side : {+1, -1}) {
+      t0 = std::chrono::steady_clock::now();
+      std::vector<uint32_t> ids;
+      std::vector<Vec3> pts;
+      for (size_t a = 0; a < active.size(); ++a) {
+        const Vec3& q = p_light[a];
+        if ((side > 0) == (q.z >= 0.0f)) {
+          ids.push_back(static_cast<uint32_t>(a));
+          pts.emplace_back(q.x, q.y, side * q.z);
+        }
+      }
+      if (ids.empty()) continue;
+      const LightSpace side_space = make_light_space(light, frame0, toward, side);
+      const GridCamera cam =
+          make_grid_camera(side_space, corners, light_max_z, pts, opt_.eye_distance, opt_.grid);
+      const PixelCells cells = bucket_pixels(cam, ids, pts);
+      project_ms += elapsed_ms(t0);
+
+      const CellTriangles table = assign_triangles(cam, soup, side, cells, opt_.assign, astats);
+      FlatLight flat = flat_light(cam);
+      if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
+      const std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
+                                            cells.sorted.capacity() * sizeof(CellPair) * 2);
+
+      // Work items: (cell, run of ≤ chunk pixels) — cells hold from one to thousands of samples.
+      struct Item {
+        uint32_t cell, begin, end;
+      };
+      std::vector<Item> items;
+      for (uint32_t c = 0; c < static_cast<uint32_t>(cam.cell_count()); ++c) {
+        const uint32_t pb = cells.begin[c], pe = cells.end[c];
+        if (pb == pe) continue;
+        const uint64_t nt = table.end[c] - table.begin[c];
+        ++nonempty_cells;
+        sum_tris += nt;
+        sum_samples += pe - pb;
+        tris_max = std::max<uint64_t>(tris_max, nt);
+        samples_max = std::max<uint64_t>(samples_max, pe - pb);
+        for (uint32_t b = pb; b < pe; b += opt_.chunk)
+          items.push_back({c, b, std::min(pe, b + opt_.chunk)});
+      }
+
+      t0 = std::chrono::steady_clock::now();
+      tbb::parallel_for(
+          tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+            Scratch& sc = scratch.local();
+            sc.light_uv.resize(n);
+            sc.su.resize(n);
+            sc.sv.resize(n);
+            sc.cover.resize(words + 1);
+            sc.blocked.resize(words + 1);
+            uint64_t l_grid = 0, l_tested = 0, l_volume = 0, l_necessary = 0, l_full = 0;
+            for (size_t it = r.begin(); it != r.end(); ++it) {
+              const Item& item = items[it];
+              // Samples are sorted by depth within the cell, so an item spans few depths.
+              const int m = static_cast<int>(item.end - item.begin);
+              sc.ix.resize(m), sc.iy.resize(m), sc.iz.resize(m);
+              for (int i = 0; i < m; ++i) {
+                const Vec3& q = p_light[cells.sorted[item.begin + i].item];
+                sc.ix[i] = q.x, sc.iy[i] = q.y, sc.iz[i] = cells.sample_z[item.begin + i];
+              }
+              const ItemBounds bounds =
+                  item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
+              sc.batch.gather(packed.data(), table.pairs.data() + table.begin[item.cell],
+                              table.pairs.data() + table.end[item.cell], bounds);
+              l_grid +=
+                  uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
+              for (uint32_t e = item.begin; e < item.end; ++e) {
+                const uint32_t a = cells.sorted[e].item;
+                const uint32_t pix = active[a];
+                const Vec3 p = p_light[a];
+                // This pixel's light: constant frames are the light space's own unit square.
+                PixelLight pl;
+                pl.p = p;
+                pl.w = -p;
+                LightFrame frame = frame0;
+                if (point) {
+                  pl.axis_aligned = false;
+                  pl.eu = pl.ev = Vec3(0.0f);
+                } else if (sphere) {
+                  frame = light_frame(light, g.shadow_origin(pix));
+                  pl.axis_aligned = false;
+                  pl.w = space.to_light(frame.corner) - p;
+                  auto dir = [&](const Vec3& d) {
+                    return Vec3(glm::dot(space.inv_u, d), glm::dot(space.inv_v, d),
+                                glm::dot(space.inv_n, d));
+                  };
+                  pl.eu = dir(frame.edge_u);
+                  pl.ev = dir(frame.edge_v);
+                }
+                const Vec2* uv = shared.data();
+                Vec2 lo = uv_lo, hi = uv_hi;
+                int ns = point ? 1 : n;
+                if (per_pixel_samples) {
+                  ctx.samples.pixel_samples(static_cast<int>(pix % g.width),
+                                            static_cast<int>(pix / g.width), sc.light_uv);
+                  uv = sc.light_uv.data();
+                  lo = Vec2(kInfinity), hi = Vec2(-kInfinity);
+                  for (int s = 0; s < n; ++s) lo = glm::min(lo, uv[s]), hi = glm::max(hi, uv[s]);
+                }
+                if (point) lo = hi = Vec2(0.0f);
+                // Sample coordinates as arrays (per-sample rasterizer, alpha): shared ones are
+                // split once per frame.
+                const float* su = shared_u.data();
+                const float* sv = shared_v.data();
+                if (per_pixel_samples || point) {
+                  for (int s = 0; s < ns; ++s)
+                    sc.su[s] = point ? 0.0f : uv[s].x, sc.sv[s] = point ? 0.0f : uv[s].y;
+                  su = sc.su.data(), sv = sc.sv.data();
+                }
+
+                // Emitting samples (round lights): blocking bits are only kept for those.
+                std::vector<uint64_t> emit_dyn;
+                const uint64_t* em = emit_words.data();
+                if (per_pixel_samples || point) {
+                  emit_dyn.assign(words, 0);
+                  for (int s = 0; s < ns; ++s)
+                    if (point || frame.emits(uv[s])) emit_dyn[s >> 6] |= uint64_t{1} << (s & 63);
+                  em = emit_dyn.data();
+                }
+                const int nw = (ns + 63) / 64;
+                std::fill(sc.blocked.begin(), sc.blocked.end(), 0);
+                std::fill(std::begin(sc.rows), std::end(sc.rows), 0u);
+                float* tr = any_translucent ? &trans[static_cast<size_t>(a) * n] : nullptr;
+                const uint32_t full_row = k >= 32 ? ~0u : (1u << k) - 1u;
+
+                auto fully_blocked = [&]() {
+                  if (use_rows) {
+                    if (emit_count == n) {
+                      uint32_t all = full_row;
+                      for (int j = 0; j < k; ++j) all &= sc.rows[j];
+                      return all == full_row;
+                    }
+                    std::vector<uint64_t> tmp(words, 0);
+                    rows_to_words(sc.rows, k, tmp.data());
+                    for (int i = 0; i < words; ++i)
+                      if ((tmp[i] & em[i]) != em[i]) return false;
+                    return true;
+                  }
+                  for (int i = 0; i < nw; ++i)
+                    if ((sc.blocked[i] & em[i]) != em[i]) return false;
+                  return true;
+                };
+
+                bool done = false;
+                for (int first = 0; first < sc.batch.count && !done; first += kLanes) {
+                  uint32_t surv =
+                      setup_batch(sc.batch, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
+                  l_tested += std::min(kLanes, sc.batch.count - first);
+                  l_volume += std::popcount(surv);
+                  bool changed = false;
+                  if (use_rows) {
+                    // Opaque triangles straight into the pixel's rows; the others (alpha,
+                    // semi-opaque) one by one below.
+                    const uint32_t opaque = surv & sc.batch.opaque_lanes(first);
+                    const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
+                    l_necessary += std::popcount(hit);
+                    changed |= hit != 0;
+                    surv &= ~opaque;
+                  }
+                  while (surv) {
+                    const int lane = std::countr_zero(surv);
+                    surv &= surv - 1;
+                    const uint32_t tri = sc.batch.tri[first + lane];
+                    bool covered;
+                    if (use_rows) {
+                      covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
+                      if (covered && (soup.opaque[tri] == 0)) {
+                        std::fill(sc.cover.begin(), sc.cover.end(), 0);
+                        rows_to_words(sc.tri_rows, k, sc.cover.data());
+                      }
+                    } else if (use_lut) {
+                      const uint64_t* m0 = lut->lookup(sc.lines.a[0][lane], sc.lines.b[0][lane],
+                                                       sc.lines.c[0][lane]);
+                      const uint64_t* m1 = lut->lookup(sc.lines.a[1][lane], sc.lines.b[1][lane],
+                                                       sc.lines.c[1][lane]);
+                      const uint64_t* m2 = lut->lookup(sc.lines.a[2][lane], sc.lines.b[2][lane],
+                                                       sc.lines.c[2][lane]);
+                      const uint64_t* m3 = lut->lookup(sc.lines.a[3][lane], sc.lines.b[3][lane],
+                                                       sc.lines.c[3][lane]);
+                      uint64_t any = 0;
+                      for (int i = 0; i < words; ++i)
+                        any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
+                      covered = any != 0;
+                    } else {
+                      covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
+                    }
+                    if (!covered) continue;
+                    ++l_necessary;
+                    if (soup.opaque[tri]) {
+                      if (use_rows) {
+                        // Whole 16-row registers (raster_rows zero-fills up to them).
+                        for (int jb = 0; jb < k; jb += kLanes)
+                          for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
+                      } else {
+                        for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
+                      }
+                      changed = true;
+                      continue;
+                    }
+                    // Alpha-textured or semi-opaque: the texture decides per covered sample, at the
+                    // barycentrics of that sample's ray (as the Embree occlusion filter does).
+                    const Mesh& mesh = ctx.scene.meshes[soup.mesh[tri]];
+                    const Material& mat = ctx.scene.material_of(mesh);
+                    const Texture* alpha =
+                        mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
+                    for (int i = 0; i < nw; ++i) {
+                      uint64_t bits = sc.cover[i];
+                      while (bits) {
+                        const int s = 64 * i + std::countr_zero(bits);
+                        bits &= bits - 1;
+                        if (alpha) {
+                          const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
+                          if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
+                              kAlphaCutoff)
+                            continue;
+                        }
+                        if (mat.transmittance > 0.0f) {
+                          tr[s] *= mat.transmittance;
+                        } else if (use_rows) {
+                          sc.rows[s / k] |= 1u << (s % k);
+                          changed = true;
+                        } else {
+                          sc.blocked[s >> 6] |= uint64_t{1} << (s & 63);
+                          changed = true;
+                        }
+                      }
+                    }
+                  }
+                  if (changed && fully_blocked()) {
+                    done = true;
+                    ++l_full;
+                  }
+                }
+                uint64_t* out = masks.pixel(pix);
+                if (use_rows) {
+                  rows_to_words(sc.rows, k, out);
+                } else if (point) {
+                  if (sc.blocked[0] & 1u)
+                    for (int s = 0; s < n; ++s) out[s >> 6] |= uint64_t{1} << (s & 63);
+                } else {
+                  for (int i = 0; i < nw; ++i) out[i] = sc.blocked[i];
+                }
+                if (point && tr)
+                  for (int s = 1; s < n; ++s) tr[s] = tr[0];
+                // Only emitting samples carry bits (SampleMasks convention).
+                if (!point)
+                  for (int i = 0; i < words; ++i) out[i] &= em[i];
+              }
+            }
+            from_grid += l_grid;
+            tested += l_tested;
+            in_volume += l_volume;
+            necessary += l_necessary;
+            early_full += l_full;
+          });
+      raster_ms += elapsed_ms(t0);
+    }
+    vis.times.add("project_pixels", project_ms);
+    vis.times.add("count_prefix_sum", astats.count_ms + astats.prefix_ms);
+    vis.times.add("write_pairs", astats.write_ms);
+    vis.times.add("sort_pairs", astats.sort_ms);
+    vis.times.add("bitmask_rasterization", raster_ms);
+
+    // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays.
+    t0 = std::chrono::steady_clock::now();
+    parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
+      std::vector<Vec2> uvs(n);
+      std::vector<float> sample_vis(n);
+      for (size_t a = b; a < e; ++a) {
+        const uint32_t pix = active[a];
+        const uint64_t* m = masks.pixel(pix);
+        const float* tr = any_translucent ? &trans[a * n] : nullptr;
+        bool plain = simple_weights && !tr;
+        if (plain) {
+          int blocked = 0;
+          for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
+          SampleWeights w;
+          w.visible = Vec3(static_cast<float>(emit_count - blocked));
+          w.total = Vec3(static_cast<float>(emit_count));
+          vis.lit[pix] = w.visible_fraction();
+          continue;
+        }
+        const LightFrame frame = light_frame(light, g.shadow_origin(pix));
+        ctx.samples.pixel_samples(static_cast<int>(pix % g.width), static_cast<int>(pix / g.width),
+                                  uvs);
+        for (int s = 0; s < n; ++s) {
+          const bool blk = (m[s >> 6] >> (s & 63)) & 1u;
+          sample_vis[s] = blk ? 0.0f : (tr ? tr[s] : 1.0f);
+        }
+        const SampleWeights w =
+            accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
+        vis.lit[pix] = w.visible_fraction();
+        if (emission) vis.lit_rgb->operator[](pix) = w.visible_fraction_rgb();
+      }
+    });
+    vis.times.add("shading", elapsed_ms(t0));
+
+    Counters& c = vis.counters;
+    c["triangles"] = static_cast<double>(tri_count);
+    c["active_pixels"] = static_cast<double>(active.size());
+    c["back_facing_skipped"] = static_cast<double>(back_facing);
+    c["pairs"] = static_cast<double>(astats.pairs);
+    c["pairs_without_retraction"] = static_cast<double>(astats.pairs_without_retraction);
+    c["aabb_cells"] = static_cast<double>(astats.aabb_cells);
+    c["culled_behind_light"] = static_cast<double>(astats.culled_behind_light);
+    c["culled_beyond_samples"] = static_cast<double>(astats.culled_beyond_samples);
+    c["straddling_light"] = static_cast<double>(astats.straddling_light);
+    c["cells_with_samples"] = static_cast<double>(nonempty_cells);
+    c["triangles_per_cell_max"] = static_cast<double>(tris_max);
+    c["triangles_per_cell_avg"] =
+        nonempty_cells ? static_cast<double>(sum_tris) / nonempty_cells : 0.0;
+    c["samples_per_cell_max"] = static_cast<double>(samples_max);
+    c["samples_per_cell_avg"] =
+        nonempty_cells ? static_cast<double>(sum_samples) / nonempty_cells : 0.0;
+    c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
+    c["assignments_total"] = static_cast<double>(tested.load());    // after the per-item cull
+    c["assignments_in_volume"] = static_cast<double>(in_volume.load());
+    c["assignments_necessary"] = static_cast<double>(necessary.load());
+    c["pixels_early_full"] = static_cast<double>(early_full.load());
+    c["memory_bytes"] =
+        static_cast<double>(peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
+                            trans.size() * sizeof(float) + (lut ? lut->bytes() : 0));
+    c["rasterizer"] = use_rows ? 0.0 : (use_lut ? 1.0 : 2.0);  // 0 row spans, 1 LUT, 2 per sample
+    if (ctx.want_masks) vis.masks = std::move(masks);
+    return vis;
+  }
+
+ private:
+  Options opt_;
+};
+
+}  // namespace
+
+void register_gears(MethodRegistry& registry) {
+  MethodInfo info;
+  info.name = "gears";
+  info.summary =
+      "GEARS: per-pixel sets of potentially blocking triangles, rasterized onto light-sample "
+      "bitmasks";
+  info.reference = "[seed 004 §3, §4.2, §4.3]";
+  info.sample_exact = true;
+  info.options = {
+      {"grid",
+       OptionType::integer,
+       "128",
+       "grid resolution (cells per side) of the triangle→pixel assignment",
+       {},
+       1,
+       2048},
+      {"variant",
+       OptionType::choice,
+       "edge",
+       "bitmask rasterization: edge planes (exact) or the 2D LUT (§4.3, approximate)",
+       {"edge", "lut"}},
+      {"lut_resolution",
+       OptionType::integer,
+       "256",
+       "LUT bins per axis (line direction × offset)",
+       {},
+       4,
+       4096},
+      {"retraction",
+       OptionType::boolean,
+       "true",
+       "extrude shadow volumes only to the deepest sample of the touched cells (§3.1)",
+       {},
+       0,
+       1},
+      {"cell_depth_cull",
+       OptionType::boolean,
+       "true",
+       "skip cells whose deepest sample is nearer than the triangle",
+       {},
+       0,
+       1},
+      {"eye_distance",
+       OptionType::real,
+       "1.0",
+       "grid-camera eye distance behind the light, in light diagonals",
+       {},
+       0.01,
+       1000},
+      {"chunk",
+       OptionType::integer,
+       "32",
+       "pixels per parallel work item within a cell",
+       {},
+       1,
+       1 << 20},
+  };
+  info.create = [](const MethodOptions& o) {
+    Options opt;
+    opt.grid = o.get_int("grid");
+    opt.lut = o.get_choice("variant") == "lut";
+    opt.lut_resolution = o.get_int("lut_resolution");
+    opt.assign.retraction = o.get_bool("retraction");
+    opt.assign.cell_depth_cull = o.get_bool("cell_depth_cull");
+    opt.eye_distance = static_cast<float>(o.get_real("eye_distance"));
+    opt.chunk = o.get_int("chunk");
+    return std::make_unique<Gears>(opt);
+  };
+  registry.add(std::move(info));
+}
+
+}  // namespace penumbra

@@ -1,0 +1,94 @@
+#include "penumbra/shadows/gears/item_cull.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "penumbra/core/parallel.hpp"
+
+namespace penumbra::gears {
+
+namespace {
+
+// The bounds are widened by this relative amount (and a tiny absolute one): the rasterizer's own
+// rounding is ~10⁻⁶ relative, so a triangle it would find covering a sample is never culled.
+constexpr float kRel = 1e-4f, kAbs = 1e-6f;
+
+float widen_up(float x) {
+  return x + kRel * std::abs(x) + kAbs;
+}
+float widen_down(float x) {
+  return x - kRel * std::abs(x) - kAbs;
+}
+
+}  // namespace
+
+FlatLight flat_light(const GridCamera& camera) {
+  FlatLight f;
+  if (camera.light_min_z != 0.0f || camera.light_max_z != 0.0f) return f;  // sphere: not flat
+  f.flat = true;
+  f.lx0 = f.ly0 = kInfinity;
+  f.lx1 = f.ly1 = -kInfinity;
+  for (const Vec3& c : camera.light_corners) {
+    if (c.z != 0.0f) return FlatLight{};
+    f.lx0 = std::min(f.lx0, c.x), f.lx1 = std::max(f.lx1, c.x);
+    f.ly0 = std::min(f.ly0, c.y), f.ly1 = std::max(f.ly1, c.y);
+  }
+  return f;
+}
+
+FlatLight shrink_to_samples(FlatLight light, Vec2 lo, Vec2 hi) {
+  if (!light.flat || !(lo.x <= hi.x && lo.y <= hi.y)) return light;
+  light.lx0 = std::max(light.lx0, lo.x), light.lx1 = std::min(light.lx1, hi.x);
+  light.ly0 = std::max(light.ly0, lo.y), light.ly1 = std::min(light.ly1, hi.y);
+  return light;
+}
+
+std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
+                                           const std::vector<float>& zmin, const FlatLight& light) {
+  std::vector<PackedTriangle> out(soup.size());
+  const float sgn = side < 0 ? -1.0f : 1.0f;
+  parallel_chunks(soup.size(), 4096, [&](size_t b, size_t e) {
+    for (size_t t = b; t < e; ++t) {
+      PackedTriangle& p = out[t];
+      for (int c = 0; c < 3; ++c) {
+        p.v[3 * c + 0] = soup.x[c][t];
+        p.v[3 * c + 1] = soup.y[c][t];
+        p.v[3 * c + 2] = soup.z[c][t];
+      }
+      p.zmin = zmin[t];
+      p.hx0 = p.hy0 = kInfinity;
+      p.hx1 = p.hy1 = -kInfinity;
+      p.opaque = soup.opaque[t];
+      p.pad = 0;
+      if (!light.flat || !(zmin[t] > 0.0f)) continue;  // reaches the light plane: keep
+      float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
+      for (int c = 0; c < 3; ++c) {
+        const float x = soup.x[c][t], y = soup.y[c][t], z = sgn * soup.z[c][t];
+        hx0 = std::max(hx0, (x - light.lx0) / z), hx1 = std::min(hx1, (x - light.lx1) / z);
+        hy0 = std::max(hy0, (y - light.ly0) / z), hy1 = std::min(hy1, (y - light.ly1) / z);
+      }
+      p.hx0 = widen_up(hx0), p.hx1 = widen_down(hx1);
+      p.hy0 = widen_up(hy0), p.hy1 = widen_down(hy1);
+    }
+  });
+  return out;
+}
+
+ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
+                       int count) {
+  ItemBounds b{-kInfinity, kInfinity, -kInfinity, kInfinity, -kInfinity};
+  bool on_light_plane = false;
+  for (int i = 0; i < count; ++i) {
+    b.zmax = std::max(b.zmax, z[i]);
+    on_light_plane |= !(z[i] > 0.0f);
+    if (!light.flat || on_light_plane) continue;
+    b.ix0 = std::min(b.ix0, (x[i] - light.lx0) / z[i]);
+    b.ix1 = std::max(b.ix1, (x[i] - light.lx1) / z[i]);
+    b.iy0 = std::min(b.iy0, (y[i] - light.ly0) / z[i]);
+    b.iy1 = std::max(b.iy1, (y[i] - light.ly1) / z[i]);
+  }
+  if (!light.flat || on_light_plane) b.ix0 = b.iy0 = -kInfinity, b.ix1 = b.iy1 = kInfinity;
+  return b;
+}
+
+}  // namespace penumbra::gears

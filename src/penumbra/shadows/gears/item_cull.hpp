@@ -1,0 +1,68 @@
+// GEARS, beyond the paper: per-work-item culling of a cell's candidate triangles. A grid cell
+// mixes samples at very different depths (bunny top and the ground behind it), so its list holds
+// ~30× more triangles than block any one sample. Each work item (≤ 32 depth-sorted samples of one
+// cell) keeps only the triangles whose penumbra can reach one of *its* samples, by four slab tests
+// in the light's "edge-angle" coordinates, plus the depth cut.
+//
+// Why it is conservative. Light = [lx0, lx1] × [ly0, ly1] at z = 0; sample P (P.z > 0) is blocked
+// by H ∈ T from light point X iff P = X + t·(H − X) with t = P.z / H.z ≥ 1. Then
+//   P.x − lx0 = t·(H.x − lx0) + (1 − t)·(X.x − lx0) ≤ t·(H.x − lx0)   (1 − t ≤ 0, X.x ≥ lx0),
+// so (P.x − lx0)/P.z ≤ (H.x − lx0)/H.z ≤ max over T's vertices (a linear-fractional function with a
+// positive denominator is extremal at a vertex); symmetrically (P.x − lx1)/P.z ≥ min over the
+// vertices of (v.x − lx1)/v.z, and the same in y. A triangle whose slab misses every sample's
+// value blocks none of them. Triangles reaching z ≤ 0, and sphere lights (the light is not flat),
+// are never culled this way.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "penumbra/shadows/gears/assign.hpp"
+#include "penumbra/shadows/gears/grid_camera.hpp"
+
+namespace penumbra::gears {
+
+/// One occluder, packed into a cache line for the gather: vertices (light space, unmirrored: the
+/// rasterizer's input) and its cull bounds (this pass's mirrored depth).
+struct alignas(64) PackedTriangle {
+  float v[9];       // ax ay az bx by bz cx cy cz
+  float zmin;       // nearest depth from the light
+  float hx0, hx1;   // max (v.x − lx0)/v.z, min (v.x − lx1)/v.z over the vertices
+  float hy0, hy1;   // the same in y
+  uint32_t opaque;  // TriangleSoup::opaque
+  uint32_t pad;
+};
+
+/// The samples of one work item, in the same coordinates: a triangle can block one of them only
+/// if may_block() holds.
+struct ItemBounds {
+  float zmax;      // deepest sample
+  float ix0, ix1;  // min (P.x − lx0)/P.z, max (P.x − lx1)/P.z over the samples
+  float iy0, iy1;
+};
+
+/// The light's extent in light space, or none (sphere): culling then reduces to the depth cut.
+struct FlatLight {
+  bool flat = false;
+  float lx0 = 0, lx1 = 0, ly0 = 0, ly1 = 0;
+};
+FlatLight flat_light(const GridCamera& camera);
+/// Rays only go to the light samples: with shared sample positions (light uv = light-space xy for
+/// a flat light) the bounds may use their box [lo, hi] instead of the whole light.
+FlatLight shrink_to_samples(FlatLight light, Vec2 lo, Vec2 hi);
+
+/// Packs the soup for one pass (`side` mirrors depths as in assign_triangles); `zmin` is that
+/// pass's per-triangle nearest depth (CellTriangles::zmin).
+std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
+                                           const std::vector<float>& zmin, const FlatLight& light);
+
+/// Bounds of samples (x[i], y[i], z[i]) (z: this pass's depth).
+ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
+                       int count);
+
+inline bool may_block(const PackedTriangle& t, const ItemBounds& b) {
+  return (t.zmin <= b.zmax) & (b.ix0 <= t.hx0) & (b.ix1 >= t.hx1) & (b.iy0 <= t.hy0) &
+         (b.iy1 >= t.hy1);
+}
+
+}  // namespace penumbra::gears

@@ -1,0 +1,287 @@
+#include "penumbra/shadows/gears/raster.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
+// The 64-byte vector helpers below are internal (and inlined); without AVX-512 in the target
+// flags GCC warns that passing them by value would change an ABI nobody outside this file uses.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+namespace penumbra::gears {
+
+namespace {
+
+// GCC/Clang vector extensions: one register of 16 lanes (AVX-512 with -march=native, pairs or
+// quads of narrower registers elsewhere), no intrinsics needed for the arithmetic.
+typedef float vf __attribute__((vector_size(64)));
+typedef int32_t vi __attribute__((vector_size(64)));
+typedef uint32_t vu __attribute__((vector_size(64)));
+
+inline vf load(const float* p) {
+  vf r;
+  std::memcpy(&r, p, sizeof(r));
+  return r;
+}
+inline void store(float* p, vf v) {
+  std::memcpy(p, &v, sizeof(v));
+}
+inline vf splat(float x) {
+  return vf{} + x;
+}
+inline vf vmax(vf a, vf b) {
+  return a > b ? a : b;
+}
+inline vf vmin(vf a, vf b) {
+  return a < b ? a : b;
+}
+
+inline uint32_t movemask(vi m) {
+#if defined(__AVX512F__)
+  __m512i x;
+  std::memcpy(&x, &m, sizeof(x));
+  return _mm512_cmplt_epi32_mask(x, _mm512_setzero_si512());
+#else
+  uint32_t bits = 0;
+  for (int l = 0; l < kLanes; ++l) bits |= static_cast<uint32_t>(m[l] != 0) << l;
+  return bits;
+#endif
+}
+
+/// floor(y) for y ≥ −40 (after clamping), as exact integers in a float-free vector.
+inline vi floor_small(vf y) {
+  return __builtin_convertvector(y + 64.0f, vi) - 64;
+}
+
+}  // namespace
+
+void CandidateBatch::gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
+                            const ItemBounds& item) {
+  const size_t most = static_cast<size_t>(end - begin) + kLanes;
+  for (auto& a : v)
+    if (a.size() < most) a.resize(most);
+  if (tri.size() < most) tri.resize(most), opaque.resize(most);
+  count = 0;
+  // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
+  // is unpredictable, the copy is one cache line).
+  for (const CellPair* pair = begin; pair != end; ++pair) {
+    const uint32_t t = pair->item;
+    const PackedTriangle& p = tris[t];
+    const int i = count;
+    tri[i] = t;
+    for (int c = 0; c < 9; ++c) v[c][i] = p.v[c];
+    opaque[i] = static_cast<uint8_t>(p.opaque);
+    count += may_block(p, item);
+  }
+  padded = (count + kLanes - 1) / kLanes * kLanes;
+  // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected).
+  for (int i = count; i < padded; ++i) {
+    tri[i] = 0;
+    opaque[i] = 0;
+    for (auto& a : v) a[i] = 0.0f;
+  }
+}
+
+uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
+                     Vec2 uv_hi, int grid_k, LineBatch& out) {
+  const vf px = splat(light.p.x), py = splat(light.p.y), pz = splat(light.p.z);
+  // Vertices relative to the pixel point.
+  const vf ax = load(&batch.v[0][first]) - px, ay = load(&batch.v[1][first]) - py,
+           az = load(&batch.v[2][first]) - pz;
+  const vf bx = load(&batch.v[3][first]) - px, by = load(&batch.v[4][first]) - py,
+           bz = load(&batch.v[5][first]) - pz;
+  const vf cx = load(&batch.v[6][first]) - px, cy = load(&batch.v[7][first]) - py,
+           cz = load(&batch.v[8][first]) - pz;
+  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [seed 004 §4.2: "an edge plane is defined by a
+  // triangle edge and the eye of the camera that computes the bitmask"].
+  vf nx[3], ny[3], nz[3];
+  nx[0] = ay * bz - az * by, ny[0] = az * bx - ax * bz, nz[0] = ax * by - ay * bx;
+  nx[1] = by * cz - bz * cy, ny[1] = bz * cx - bx * cz, nz[1] = bx * cy - by * cx;
+  nx[2] = cy * az - cz * ay, ny[2] = cz * ax - cx * az, nz[2] = cx * ay - cy * ax;
+  const vf det = ax * nx[1] + ay * ny[1] + az * nz[1];
+  const vf s = det > 0.0f ? splat(1.0f) : splat(-1.0f);
+  vi ok = det != 0.0f;
+  vf A[4], B[4], C[4];
+  for (int m = 0; m < 3; ++m) {
+    if (light.axis_aligned) {
+      // X − P = w + (u, v, 0).
+      A[m] = s * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
+      B[m] = s * nx[m];
+      C[m] = s * ny[m];
+    } else {
+      A[m] = s * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
+      B[m] = s * (nx[m] * light.eu.x + ny[m] * light.eu.y + nz[m] * light.eu.z);
+      C[m] = s * (nx[m] * light.ev.x + ny[m] * light.ev.y + nz[m] * light.ev.z);
+    }
+  }
+  // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|.
+  A[3] = A[0] + A[1] + A[2] - s * det;
+  B[3] = B[0] + B[1] + B[2];
+  C[3] = C[0] + C[1] + C[2];
+  for (int m = 0; m < 4; ++m) {
+    const vf best =
+        A[m] + vmax(B[m] * uv_lo.x, B[m] * uv_hi.x) + vmax(C[m] * uv_lo.y, C[m] * uv_hi.y);
+    ok &= best >= 0.0f;
+    store(out.a[m], A[m]);
+    store(out.b[m], B[m]);
+    store(out.c[m], C[m]);
+  }
+  if (light.axis_aligned) {
+    // Separating-axis completion for the common case: all three vertices between the light plane
+    // and P (−p.z < a.z < 0). The triangle's shadow on the light is then the triangle of its
+    // vertices' projections from P, so its uv bounds must overlap the sample box.
+    const vf pzv = splat(light.p.z);
+    const vi between =
+        (az < 0.0f) & (az > -pzv) & (bz < 0.0f) & (bz > -pzv) & (cz < 0.0f) & (cz > -pzv);
+    const vf ta = pzv / -az, tb = pzv / -bz, tc = pzv / -cz;
+    const vf ua = px + ax * ta, ub = px + bx * tb, uc = px + cx * tc;
+    const vf va = py + ay * ta, vb = py + by * tb, vc = py + cy * tc;
+    const vf u0 = vmin(vmin(ua, ub), uc), u1 = vmax(vmax(ua, ub), uc);
+    const vf v0 = vmin(vmin(va, vb), vc), v1 = vmax(vmax(va, vb), vc);
+    vi overlap = (u0 <= uv_hi.x) & (u1 >= uv_lo.x) & (v0 <= uv_hi.y) & (v1 >= uv_lo.y);
+    if (grid_k > 0) {
+      // Some sample centre ((i + ½)/k, (j + ½)/k) must lie in that bounding box: small shadows
+      // often fall between rows or columns. Widened by 10⁻⁴ light widths (far above the rounding
+      // of the projections), so the rasterizer still decides every sample near an edge.
+      const float kf = static_cast<float>(grid_k), slack = 1e-4f * kf;
+      const vf lim_lo = splat(-2.0f), lim_hi = splat(kf + 1.0f);
+      auto first_centre = [&](vf x) {  // ceil(k·x − ½ − slack), clamped to [−2, k + 1]
+        return -floor_small(-vmin(vmax(kf * x - 0.5f - slack, lim_lo), lim_hi));
+      };
+      auto last_centre = [&](vf x) {  // floor(k·x − ½ + slack), clamped to [−2, k + 1]
+        return floor_small(vmin(vmax(kf * x - 0.5f + slack, lim_lo), lim_hi));
+      };
+      const vi i0 = first_centre(u0), i1 = last_centre(u1);
+      const vi j0 = first_centre(v0), j1 = last_centre(v1);
+      const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
+      overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
+                 ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
+    }
+    ok &= overlap | ~between;
+  }
+  const int live = std::min(kLanes, batch.count - first);
+  const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
+  if (grid_k > 0 && result != 0) {
+    // Row-span form: index space of sample (i, j) at ((i + ½)/k, (j + ½)/k).
+    const float kf = static_cast<float>(grid_k);
+    for (int m = 0; m < 4; ++m) {
+      store(out.al[m], kf * A[m] + 0.5f * (B[m] + C[m]));
+      store(out.inv[m], B[m] != 0.0f ? -1.0f / B[m] : splat(0.0f));
+      store(out.lo_off[m], B[m] > 0.0f ? splat(0.0f) : splat(-kInfinity));
+      store(out.hi_off[m], B[m] < 0.0f ? splat(0.0f) : splat(kInfinity));
+    }
+  }
+  return result;
+}
+
+namespace {
+
+/// Rows jb .. jb+15 of triangle `lane`'s coverage (row j: bits lo..hi); `valid` gets the non-empty
+/// rows. Branch-free over the four lines (their slopes' signs are unpredictable): line m bounds
+/// i from below by t (b > 0) or from above (b < 0); the offsets pick which (gears/raster.hpp).
+inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& valid_rows) {
+  const float kf = static_cast<float>(k);
+  const vf lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  // A line parallel to the rows (b = 0) is all or nothing per row: rare, kept out of the hot path.
+  const bool flat = (lines.b[0][lane] == 0.0f) | (lines.b[1][lane] == 0.0f) |
+                    (lines.b[2][lane] == 0.0f) | (lines.b[3][lane] == 0.0f);
+  const vf j = lane_index + static_cast<float>(jb);
+  // Span [ceil(max of lower bounds), floor(min of upper bounds)]: ceil and floor are monotonic,
+  // so taking them once after the max/min gives the same integers as taking them per line.
+  vf t_lo = splat(-2.0f), t_hi = splat(kf + 1.0f);  // also the clamp, for the conversions
+  vi empty = j >= kf;
+  for (int m = 0; m < 4; ++m) {
+    const vf cj = lines.al[m][lane] + lines.c[m][lane] * j;
+    const vf t = cj * lines.inv[m][lane];
+    t_lo = vmax(t_lo, t + lines.lo_off[m][lane]);
+    t_hi = vmin(t_hi, t + lines.hi_off[m][lane]);
+    if (flat && lines.b[m][lane] == 0.0f) empty |= cj < 0.0f;
+  }
+  const vi lo0 = -floor_small(-vmin(t_lo, splat(kf + 1.0f)));
+  const vi hi0 = floor_small(vmax(t_hi, splat(-2.0f)));
+  const vi lo = lo0 > 0 ? lo0 : vi{} + 0;
+  const vi hi = hi0 < (k - 1) ? hi0 : vi{} + (k - 1);
+  const vi valid = (lo <= hi) & ~empty;
+  vu mask = (vu{} + 2u) << __builtin_convertvector(hi > 0 ? hi : vi{} + 0, vu);
+  mask -= (vu{} + 1u) << __builtin_convertvector(lo < 31 ? lo : vi{} + 31, vu);
+  valid_rows = movemask(valid);
+  return mask & __builtin_convertvector(valid, vu);
+}
+
+}  // namespace
+
+uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
+  uint32_t any = 0;
+  for (int jb = 0; jb < k; jb += kLanes) {
+    uint32_t valid;
+    const vu mask = span_rows(lines, lane, k, jb, valid);
+    // Rows j ≥ k are empty, so whole registers can be stored.
+    std::memcpy(rows + jb, &mask, sizeof(mask));
+    any |= valid << jb;
+  }
+  return any;
+}
+
+uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows) {
+  uint32_t hit = 0;
+  for (int jb = 0; jb < k; jb += kLanes) {
+    vu acc;
+    std::memcpy(&acc, rows + jb, sizeof(acc));
+    for (uint32_t l = lanes; l; l &= l - 1) {
+      const int lane = std::countr_zero(l);
+      uint32_t valid;
+      acc |= span_rows(lines, lane, k, jb, valid);
+      hit |= static_cast<uint32_t>(valid != 0) << lane;
+    }
+    std::memcpy(rows + jb, &acc, sizeof(acc));
+  }
+  return hit;
+}
+
+bool raster_samples(const LineBatch& lines, int lane, const float* u, const float* v, int n,
+                    uint64_t* words) {
+  float a[4], b[4], c[4];
+  for (int m = 0; m < 4; ++m)
+    a[m] = lines.a[m][lane], b[m] = lines.b[m][lane], c[m] = lines.c[m][lane];
+  uint64_t any = 0;
+  for (int base = 0; base < n; base += 64) {
+    const int cnt = std::min(64, n - base);
+    uint64_t bits = 0;
+    for (int s = 0; s < cnt; ++s) {
+      const float su = u[base + s], sv = v[base + s];
+      const bool in = a[0] + b[0] * su + c[0] * sv >= 0.0f &&
+                      a[1] + b[1] * su + c[1] * sv >= 0.0f &&
+                      a[2] + b[2] * su + c[2] * sv >= 0.0f && a[3] + b[3] * su + c[3] * sv >= 0.0f;
+      bits |= static_cast<uint64_t>(in) << s;
+    }
+    words[base >> 6] = bits;
+    any |= bits;
+  }
+  return any != 0;
+}
+
+void rows_to_words(const uint32_t* rows, int k, uint64_t* words) {
+  if (64 % k == 0) {  // k = 1, 2, 4, 8, 16, 32: whole rows per word, assembled in a register
+    const int per = 64 / k, count = (k * k + 63) / 64;
+    for (int w = 0; w < count; ++w) {
+      uint64_t x = 0;
+      for (int r = 0; r < per && w * per + r < k; ++r) x |= uint64_t{rows[w * per + r]} << (r * k);
+      words[w] |= x;
+    }
+    return;
+  }
+  for (int j = 0; j < k; ++j) {
+    const uint64_t bits = rows[j];
+    const int p = j * k;
+    words[p >> 6] |= bits << (p & 63);
+    if ((p & 63) + k > 64) words[(p >> 6) + 1] |= bits >> (64 - (p & 63));
+  }
+}
+
+}  // namespace penumbra::gears

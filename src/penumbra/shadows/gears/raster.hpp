@@ -1,0 +1,101 @@
+// GEARS step 4: per-pixel visibility bitmasks by edge-plane rasterization [seed 004 §4.2].
+// Seen from pixel point P, triangle ABC blocks the light point X(u, v) iff X lies in the three
+// edge planes' positive half-spaces (P, A, B), (P, B, C), (P, C, A) — all oriented by
+// s = sign(det(A−P, B−P, C−P)) — and beyond the triangle's plane (segment parameter t ≤ 1, which is
+// Σ s·e_i(X) ≥ |det|). On the light plane each of the four tests is a line in light uv, so no
+// perspective division or clipping is needed: triangles crossing the plane of P or of the light
+// are handled exactly by construction.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "penumbra/core/math.hpp"
+#include "penumbra/shadows/gears/assign.hpp"
+#include "penumbra/shadows/gears/item_cull.hpp"
+
+namespace penumbra::gears {
+
+inline constexpr int kLanes = 16;  // triangles set up together (one AVX-512 register of floats)
+
+/// Candidate triangles of one work item, gathered in light space (SoA, padded to 16).
+struct CandidateBatch {
+  std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
+  std::vector<uint32_t> tri;
+  std::vector<uint8_t> opaque;  // 1: opaque material
+  int count = 0;
+  int padded = 0;
+  /// Gathers the candidates of [begin, end) that may block one of the work item's samples
+  /// (gears/item_cull.hpp: depth cut and edge-angle slabs).
+  void gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
+              const ItemBounds& item);
+  /// The lanes of batch [first, first+16) whose triangle is opaque.
+  uint32_t opaque_lanes(int first) const {
+    uint32_t m = 0;
+    for (int l = 0; l < kLanes; ++l) m |= static_cast<uint32_t>(opaque[first + l]) << l;
+    return m;
+  }
+};
+
+/// One pixel's light, in light space: light point X(u, v) = p + w + u·eu + v·ev.
+struct PixelLight {
+  Vec3 p{0.0f};  // the pixel's shadow origin
+  Vec3 w{0.0f};  // light corner − p
+  Vec3 eu{1, 0, 0}, ev{0, 1, 0};
+  bool axis_aligned = true;  // eu = (1,0,0), ev = (0,1,0): the frame of the light space itself
+};
+
+/// The four lines of 16 triangles: triangle l blocks (u, v) iff a[m][l] + b[m][l]·u + c[m][l]·v ≥ 0
+/// for m = 0..3 (m = 0: edge AB, ∝ barycentric of C; 1: BC, ∝ A; 2: CA, ∝ B; 3: the plane, t ≤ 1).
+struct LineBatch {
+  alignas(64) float a[4][kLanes];
+  alignas(64) float b[4][kLanes];
+  alignas(64) float c[4][kLanes];
+  // Row-span form (grid_k > 0 in setup_batch), computed 16 lanes at once: line m at sample
+  // (i, j) is al[m] + b[m]·i + c[m]·j ≥ 0, i.e. i ≥ t (b > 0) or i ≤ t (b < 0) with
+  // t = (al[m] + c[m]·j)·inv[m]. Adding lo_off (0 where b > 0, −∞ elsewhere) or hi_off (0 where
+  // b < 0, +∞ elsewhere) to t makes each line a lower or an upper bound without a branch.
+  alignas(64) float al[4][kLanes];
+  alignas(64) float inv[4][kLanes];  // −1/b[m], 0 where b[m] = 0
+  alignas(64) float lo_off[4][kLanes];
+  alignas(64) float hi_off[4][kLanes];
+};
+
+/// Batched setup of candidates [first, first+16) (SIMD across triangles: the per-triangle setup
+/// dominates a scalar rasterizer). Returns the lanes whose lines can all be non-negative inside the
+/// sample bounding box [uv_lo, uv_hi] — the exact "P is in the triangle's shadow volume" test for
+/// that box; the others are rejected without rasterization. grid_k > 0: the samples are the
+/// regular grid_k × grid_k cell centres; the row-span form is filled in, and a triangle whose
+/// shadow's bounding box holds no sample centre is rejected too.
+uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
+                     Vec2 uv_hi, int grid_k, LineBatch& out);
+
+/// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32; `lines` set up with
+/// grid_k = k): row j's covered samples form one interval, one machine word per row. Writes the
+/// triangle's coverage to rows[0..k) (and zeros up to the next multiple of 16: size rows for that);
+/// returns the set of non-empty rows (0: no sample covered).
+uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows);
+
+/// raster_rows for several opaque triangles (bit l of `lanes`: lane l), OR-ed into rows[0..k)
+/// (size as for raster_rows) without a branch on coverage; returns the lanes that cover a sample.
+uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows);
+
+/// Per-sample rasterization (any sample positions: irregular patterns, point lights, k > 32):
+/// coverage bit s of words[] for sample (u[s], v[s]). Returns true when some sample is covered.
+bool raster_samples(const LineBatch& lines, int lane, const float* u, const float* v, int n,
+                    uint64_t* words);
+
+/// Barycentrics (Embree's convention: u weights vertex 1, v vertex 2) of the hit of the ray toward
+/// light uv (su, sv), from the edge lines.
+inline Vec2 hit_barycentrics(const LineBatch& l, int lane, float su, float sv) {
+  const float e0 = l.a[0][lane] + l.b[0][lane] * su + l.c[0][lane] * sv;  // ∝ λ_C
+  const float e1 = l.a[1][lane] + l.b[1][lane] * su + l.c[1][lane] * sv;  // ∝ λ_A
+  const float e2 = l.a[2][lane] + l.b[2][lane] * su + l.c[2][lane] * sv;  // ∝ λ_B
+  const float sum = e0 + e1 + e2;
+  return sum > 0.0f ? Vec2(e2 / sum, e0 / sum) : Vec2(0.0f);
+}
+
+/// Rows of k bits (row-major samples) into 64-bit mask words (SampleMasks layout), OR-ed in.
+void rows_to_words(const uint32_t* rows, int k, uint64_t* words);
+
+}  // namespace penumbra::gears
