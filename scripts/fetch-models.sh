@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fetches the test/benchmark models into the model cache (nothing is committed to the repository):
-#   bunny00.off, ChineseDragon-10kv.off   CGAL's data set (Debian package libcgal-demo, inside
-#                                         /usr/share/doc/libcgal-dev/data.tar.gz: data/meshes/)
+#   bunny00.off, ChineseDragon-10kv.off,  CGAL's data set (Debian package libcgal-demo, inside
+#   armadillo.off, refined_elephant.off   /usr/share/doc/libcgal-dev/data.tar.gz: data/meshes/)
 #   assimp-testmodels/                    assimp's test models (Debian package assimp-testmodels,
 #                                         /usr/share/assimp/models), including invalid/
 # Cache: $PENUMBRA_MODELS, else $XDG_CACHE_HOME/penumbra/models, else ~/.cache/penumbra/models
@@ -12,7 +12,7 @@
 set -euo pipefail
 
 DEST="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
-CGAL_MODELS=(bunny00.off ChineseDragon-10kv.off)
+CGAL_MODELS=(bunny00.off ChineseDragon-10kv.off armadillo.off refined_elephant.off)
 
 say() { echo "fetch-models: $*"; }
 die() {

@@ -138,7 +138,7 @@ Scene default_scene() {
   return s;
 }
 
-/// The benchmark scene layout (issue #2): model scaled to a bounding-box diagonal of 1, resting on
+/// The benchmark scene layout: model scaled to a bounding-box diagonal of 1, resting on
 /// the 10×10 ground at y = 0, a square light of side 0.5 parallel to the ground 2.0 above the
 /// model's centre, camera at (1.5, 1.2, 1.5) looking at the model's centre, 45° vertical fov.
 Scene model_scene(const std::string& name, const std::string& file_name) {
@@ -187,6 +187,11 @@ const std::vector<Entry>& entries() {
        [] { return model_scene("bunny", "bunny00.off"); }},
       {{"dragon", "Chinese dragon (CGAL data, 20k triangles), same layout as bunny", true},
        [] { return model_scene("dragon", "ChineseDragon-10kv.off"); }},
+      {{"armadillo", "Armadillo (CGAL data, 52k triangles, closed), same layout as bunny", true},
+       [] { return model_scene("armadillo", "armadillo.off"); }},
+      {{"elephant", "refined elephant (CGAL data, 89k triangles, closed), same layout as bunny",
+        true},
+       [] { return model_scene("elephant", "refined_elephant.off"); }},
   };
   return list;
 }

@@ -1,5 +1,5 @@
 // Scenes by name that need no files (quad, spheres, fence, default) and the fixed model scenes
-// (bunny, dragon) built around fetched models.
+// (bunny, dragon, armadillo, elephant) built around fetched models.
 #pragma once
 
 #include <string>
@@ -13,7 +13,7 @@ namespace penumbra {
 struct BuiltinSceneInfo {
   std::string name;
   std::string description;
-  bool needs_models = false;  // bunny, dragon: run scripts/fetch-models.sh first
+  bool needs_models = false;  // the model scenes: run scripts/fetch-models.sh first
 };
 
 const std::vector<BuiltinSceneInfo>& builtin_scenes();
