@@ -19,6 +19,7 @@ namespace {
 using test::centre_sample;
 using test::make_test_frame;
 using test::TestFrame;
+using test::without_alpha;
 
 struct Agreement {
   int active = 0, differ = 0, shadowed = 0;
@@ -44,11 +45,6 @@ void expect_equal_to_raytrace(const TestFrame& t, int min_shadowed) {
   EXPECT_LE(r.differ, r.active / 10000)
       << r.differ << " of " << r.active << " active pixels differ";
   EXPECT_GE(r.shadowed, min_shadowed);
-}
-
-Scene without_alpha(Scene s) {
-  for (Material& m : s.materials) m.alpha_texture = -1;
-  return s;
 }
 
 TEST(ShadowVolume, EqualsRaytraceOnQuad) {
@@ -88,20 +84,8 @@ TEST(ShadowVolume, EqualsRaytraceOnBunny) {
 /// removed (open), a third of its remaining triangles flipped, and a fin of three triangles on one
 /// edge; lit from the side so the open part matters.
 TEST(ShadowVolume, EqualsRaytraceOnOpenNonManifoldMesh) {
-  Scene s = make_builtin_scene("quad");
-  Mesh sphere = test::open_flipped_sphere();  // the fin vertices below get no normals
-  const uint32_t a = sphere.triangles[5].v[0], b = sphere.triangles[5].v[1];
-  for (int k = 0; k < 3; ++k) {
-    sphere.positions.push_back(
-        0.5f * (sphere.positions[a] + sphere.positions[b]) +
-        Vec3(0.3f * static_cast<float>(k), 0.4f, -0.2f * static_cast<float>(k)));
-    sphere.triangles.push_back({{a, b, static_cast<uint32_t>(sphere.positions.size() - 1)}});
-  }
-  sphere.name = "open";
-  sphere.material = 1;
-  s.meshes[1] = sphere;
-  s.lights[0].center = Vec3(1.2f, 2.5f, 0.4f);
-  expect_equal_to_raytrace(make_test_frame(std::move(s), 128, 128, centre_sample()), 500);
+  expect_equal_to_raytrace(
+      make_test_frame(test::open_non_manifold_scene(), 128, 128, centre_sample()), 500);
 }
 
 /// The camera stands inside the occluder's shadow volume (between the quad and the ground): z-fail

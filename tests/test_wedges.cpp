@@ -540,20 +540,7 @@ TEST(Wedges, CoverageTextureOnQuadConverges) {
   EXPECT_LE(compare(t, "wedges", {{"coverage", "analytic"}}).max_abs, 1.0 / 255.0);
 }
 
-/// `quad` with its light given a 2×2 RGB emission texture (every texel a different colour, so each
-/// channel's emission is non-uniform and the three channels differ).
-/// `scene` under the 2×2 RGB emission texture of the textured-light tests.
-Scene with_textured_light(Scene s) {
-  Texture tex;
-  tex.name = "emission_2x2";
-  tex.width = 2;
-  tex.height = 2;
-  tex.channels = 3;
-  tex.texels = {1.0f, 0.2f, 0.1f, 0.1f, 1.0f, 0.3f, 0.3f, 0.2f, 1.0f, 0.8f, 0.8f, 0.2f};
-  s.textures.push_back(tex);
-  s.lights[0].emission_texture = static_cast<int>(s.textures.size()) - 1;
-  return s;
-}
+using test::with_textured_light;
 
 Scene textured_quad() {
   return with_textured_light(make_builtin_scene("quad"));

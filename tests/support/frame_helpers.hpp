@@ -61,6 +61,45 @@ inline Mesh open_flipped_sphere() {
   return sphere;
 }
 
+/// `quad` with its occluder replaced by the open, flipped sphere plus a fin of three triangles on
+/// one edge (non-manifold), lit from the side so the open part matters.
+inline Scene open_non_manifold_scene() {
+  Scene s = make_builtin_scene("quad");
+  Mesh sphere = open_flipped_sphere();  // the fin vertices below get no normals
+  const uint32_t a = sphere.triangles[5].v[0], b = sphere.triangles[5].v[1];
+  for (int k = 0; k < 3; ++k) {
+    sphere.positions.push_back(
+        0.5f * (sphere.positions[a] + sphere.positions[b]) +
+        Vec3(0.3f * static_cast<float>(k), 0.4f, -0.2f * static_cast<float>(k)));
+    sphere.triangles.push_back({{a, b, static_cast<uint32_t>(sphere.positions.size() - 1)}});
+  }
+  sphere.name = "open";
+  sphere.material = 1;
+  s.meshes[1] = sphere;
+  s.lights[0].center = Vec3(1.2f, 2.5f, 0.4f);
+  return s;
+}
+
+/// `s` with every alpha texture removed: perforated occluders become opaque for every method.
+inline Scene without_alpha(Scene s) {
+  for (Material& m : s.materials) m.alpha_texture = -1;
+  return s;
+}
+
+/// `scene` under a 2×2 RGB emission texture (every texel a different colour, so each channel's
+/// emission is non-uniform and the three channels differ).
+inline Scene with_textured_light(Scene s) {
+  Texture tex;
+  tex.name = "emission_2x2";
+  tex.width = 2;
+  tex.height = 2;
+  tex.channels = 3;
+  tex.texels = {1.0f, 0.2f, 0.1f, 0.1f, 1.0f, 0.3f, 0.3f, 0.2f, 1.0f, 0.8f, 0.8f, 0.2f};
+  s.textures.push_back(tex);
+  s.lights[0].emission_texture = static_cast<int>(s.textures.size()) - 1;
+  return s;
+}
+
 /// One grid sample at the light centre: raytrace's hard shadow, the point the hard methods use.
 inline LightSampleSpec centre_sample() {
   LightSampleSpec s;

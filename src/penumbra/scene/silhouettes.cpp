@@ -6,9 +6,6 @@
 
 namespace penumbra {
 
-namespace {
-
-/// Lowest and highest value of the affine function dot(n, x) − d over the light's points.
 void light_range(const Light& light, const DVec3& n, double d, double& lo, double& hi) {
   const DVec3 c(light.center);
   const double at_c = glm::dot(n, c) - d;
@@ -32,8 +29,6 @@ void light_range(const Light& light, const DVec3& n, double d, double& lo, doubl
   lo = at_c - half;
   hi = at_c + half;
 }
-
-}  // namespace
 
 int face_side(const Mesh& mesh, const MeshEdges& edges, size_t face, const DVec3& point) {
   if (!edges.face_valid(face)) return 0;

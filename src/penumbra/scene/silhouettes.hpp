@@ -44,6 +44,10 @@ std::vector<SilhouetteEdge> silhouette_from_sides(const MeshEdges& edges,
 std::vector<SilhouetteEdge> point_silhouette(const Mesh& mesh, const MeshEdges& edges,
                                              const Vec3& point);
 
+/// Lowest and highest value of the affine function dot(n, x) − d over the light's points (the
+/// whole rectangle, disk or sphere; a point light's centre).
+void light_range(const Light& light, const DVec3& n, double d, double& lo, double& hi);
+
 /// Possible silhouette edges w.r.t. the whole light (point, rect, disk, sphere) [Forest §4.1.4]:
 /// e is kept iff m(e) ≠ 0 for some point of the light. m can change over the light only where an
 /// adjacent face's plane cuts the light, so e is kept iff m(e) ≠ 0 at the light centre or some

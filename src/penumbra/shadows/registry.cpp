@@ -108,6 +108,7 @@ const MethodRegistry& MethodRegistry::builtin() {
     register_exact(r);
     register_raytrace(r);
     register_gears(r);
+    register_dcs(r);
     register_shadow_volume(r);
     register_shadow_map(r);
     register_pcss(r);

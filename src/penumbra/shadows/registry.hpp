@@ -81,5 +81,6 @@ void register_wedges(MethodRegistry& registry);
 void register_wedge_blend(MethodRegistry& registry);
 void register_ssm(MethodRegistry& registry);
 void register_silhouette_map(MethodRegistry& registry);
+void register_dcs(MethodRegistry& registry);
 
 }  // namespace penumbra

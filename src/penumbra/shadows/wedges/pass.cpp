@@ -247,6 +247,11 @@ Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<const Mesh*
 
 }  // namespace
 
+Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+                           const Vec3& point, const ShadowVolumePixels* pixels) {
+  return counts_of(ctx, meshes, point, pixels);
+}
+
 Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
                             const ShadowVolumePixels* pixels) {
   const GBuffer& g = ctx.gbuffer;

@@ -1,7 +1,7 @@
-// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp): light hull,
-// per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass 1), wedge
-// construction and screen binning, and the per-pixel visit of the wedges of a pixel's tile
-// (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
+// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp):
+// light hull, per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass
+// 1), wedge construction and screen binning, and the per-pixel visit of the wedges of a pixel's
+// tile (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
 //
 // Groups. Paper IV §5.1's overlap approximation and Forest §3.2's blending both need the hard
 // count and the wedge coverage of each silhouette loop separately (Forest Algorithm 4 line 4:
@@ -35,10 +35,10 @@
 #include "penumbra/scene/edges.hpp"
 #include "penumbra/shadows/exact/projection.hpp"
 #include "penumbra/shadows/method.hpp"
-#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/geometry.hpp"
 #include "penumbra/shadows/wedges/screen.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra::wedge_pass {
 
@@ -130,6 +130,11 @@ std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& cent
 Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
                             const ShadowVolumePixels* pixels = nullptr);
 
+/// The shadow-volume count of `meshes` alone (every one casting): triangles crossed by the segment
+/// from each active pixel's shadow origin to `point`.
+Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+                           const Vec3& point, const ShadowVolumePixels* pixels = nullptr);
+
 /// Pass 1 per group: for every active pixel the nonzero (group, count / layers), sorted by group
 /// (CSR: entries of pixel i are [begin[i], begin[i + 1])).
 struct GroupCounts {
@@ -186,6 +191,8 @@ class PixelLight {
   double occlusion(const Wedge& w, double uv_area) const {
     return -tau_ * w.weight * uv_area * inv_area_;
   }
+  /// +1 when light uv, seen from the point, turns the way the light's own uv does, −1 otherwise.
+  double tau() const { return tau_; }
 
  private:
   bool valid_ = false, round_ = false;
