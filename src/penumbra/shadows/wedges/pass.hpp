@@ -1,7 +1,7 @@
-// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp):
-// light hull, per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass
-// 1), wedge construction and screen binning, and the per-pixel visit of the wedges of a pixel's
-// tile (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
+// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp): light hull,
+// per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass 1), wedge
+// construction and screen binning, and the per-pixel visit of the wedges of a pixel's tile
+// (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
 //
 // Groups. Paper IV §5.1's overlap approximation and Forest §3.2's blending both need the hard
 // count and the wedge coverage of each silhouette loop separately (Forest Algorithm 4 line 4:
@@ -35,10 +35,10 @@
 #include "penumbra/scene/edges.hpp"
 #include "penumbra/shadows/exact/projection.hpp"
 #include "penumbra/shadows/method.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/geometry.hpp"
 #include "penumbra/shadows/wedges/screen.hpp"
-#include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra::wedge_pass {
 
