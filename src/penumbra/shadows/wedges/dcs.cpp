@@ -40,6 +40,7 @@ struct RowStats {
   uint64_t umbra_early_outs = 0;  // pixels whose centre count exceeds every possible decrement
   uint64_t wide_counters = 0;     // pixels whose bound needed int32 counters
   uint64_t max_edges = 0;
+  uint64_t block_entries = 0;  // bin entries kept per 4×4 pixel block
   int32_t d_min = std::numeric_limits<int32_t>::max(), d_max = std::numeric_limits<int32_t>::min();
   PassCounters pass;
 };
@@ -126,6 +127,12 @@ class Sampler {
     if (pl) {
       for (const uint32_t k : bin) {
         const Wedge& w = bw_->wedges[k];
+        const dcs::Edge& e = edges_.edges[bw_->group[k]];  // wedge k's edge
+        // The receiver's weight first: two plane tests, and zero for most (pixel, straddling edge)
+        // pairs (the edge is no silhouette from p), which then skip the wedge test and the clip.
+        st.straddle_weights += e.face_count > 0;
+        const int32_t m = dcs::multiplicity_for(edges_, e, pl->point());
+        if (m == 0) continue;
         ++st.pass.tests;
         if (!w.contains(pl->point())) continue;
         ++st.pass.inside;
@@ -134,10 +141,6 @@ class Sampler {
         CoveredEdge ce;
         int turn = 0;
         if (!dcs::covered_region(a, b, ce.region, turn)) continue;
-        const dcs::Edge& e = edges_.edges[k];
-        st.straddle_weights += e.face_count > 0;
-        const int32_t m = dcs::multiplicity_for(edges_, e, pl->point());
-        if (m == 0) continue;
         ++st.pass.covered;
         // The wedges' sign [wedges/pass.hpp PixelLight::occlusion]: −τ · m · turn.
         ce.delta = -static_cast<int>(pl->tau()) * m * turn;
@@ -274,6 +277,28 @@ class Sampler {
   std::vector<uint8_t> shared_emit_;
 };
 
+/// Whether a straddling edge's weight is 0 for every point of the box [lo, hi]: each face plane
+/// leaves the box on one side, and the sides cancel. On closed meshes most (box, straddling edge)
+/// pairs: an edge whose face planes cut the light is a silhouette only from the thin region
+/// between those planes.
+bool zero_weight_over_box(const dcs::EdgeSet& edges, const dcs::Edge& e, const DVec3& lo,
+                          const DVec3& hi) {
+  if (e.face_count == 0) return false;
+  const DVec3 mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  int32_t m = 0;
+  for (uint32_t f = e.face_begin; f < e.face_begin + e.face_count; ++f) {
+    const dcs::EdgeFace& face = edges.faces[f];
+    const double c = glm::dot(face.n, mid) - face.d,
+                 r = glm::dot(glm::abs(face.n), half) * (1.0 + 1e-9) + 1e-12 * std::abs(face.d);
+    if (!(std::abs(c) > r)) return false;  // the plane cuts the box: the weight varies
+    m -= (c > 0.0 ? 1 : -1) * face.sign;
+  }
+  return m == 0;
+}
+
+/// Side of the pixel blocks whose shadow-origin boxes re-cull a tile's bin.
+constexpr int kBlock = 4;
+
 }  // namespace
 
 Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
@@ -323,7 +348,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
 
   // Wedges of every edge and their tile bins (point light: none, the counts are the answer).
   start = std::chrono::steady_clock::now();
-  BinnedWedges bw;
+  BinnedWedges bw;  // group = the wedge's edge
   const bool area = light.shape != LightShape::point && !edges.edges.empty() && setup.any_active;
   if (area) {
     std::vector<WedgeEdge> wedge_edges(edges.edges.size());
@@ -333,28 +358,56 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   }
   out.times.add("wedges", elapsed_ms(start));
 
-  // Algorithm 7 per pixel, one tile row per task.
+  // Algorithm 7 per pixel, one tile row per task. Each tile's bin is culled again per 4×4 block
+  // of pixels (its shadow origins' box against the wedge planes and the straddling weights), so
+  // a pixel visits only the edges that can matter near it.
   start = std::chrono::steady_clock::now();
   Sampler sampler(ctx, options, classes, edges, area ? &bw : nullptr, out);
-  const int tiles_y = (g.height + kTile - 1) / kTile;
+  const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
   std::vector<RowStats> rows(tiles_y);
-  PassCounters pass_totals;  // run_pass2's own: pixels in the light's plane (fallbacks)
-  if (area) {
-    out.lit = run_pass2(
-        ctx, light, bw, pass_totals,
-        [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, PassCounters&) {
-          return sampler.shade(i, pl, bin, rows[(i / g.width) / kTile]);
-        });
-  } else {
+  const bool per_pixel_frame = light.shape == LightShape::sphere;
+  const LightFrame fixed_frame = light_frame(light, light.center);
+  parallel_rows(tiles_y, [&](int ty) {
+    RowStats& st = rows[ty];
+    std::vector<uint32_t> block;
     const std::vector<uint32_t> none;
-    parallel_rows(tiles_y, [&](int ty) {
-      for (int y = ty * kTile; y < std::min(g.height, (ty + 1) * kTile); ++y)
-        for (int x = 0; x < g.width; ++x) {
-          const size_t i = static_cast<size_t>(y) * g.width + x;
-          if (ctx.receivers[i] == kActive) out.lit[i] = sampler.shade(i, nullptr, none, rows[ty]);
+    for (int tx = 0; tx < tiles_x; ++tx) {
+      const std::vector<uint32_t>& bin =
+          area ? bw.bins[static_cast<size_t>(ty) * tiles_x + tx] : none;
+      for (int by = ty * kTile; by < std::min(g.height, (ty + 1) * kTile); by += kBlock) {
+        for (int bx = tx * kTile; bx < std::min(g.width, (tx + 1) * kTile); bx += kBlock) {
+          const int y1 = std::min(g.height, by + kBlock), x1 = std::min(g.width, bx + kBlock);
+          DVec3 lo(kInfinity), hi(-kInfinity);
+          for (int y = by; y < y1; ++y)
+            for (int x = bx; x < x1; ++x) {
+              const size_t i = static_cast<size_t>(y) * g.width + x;
+              if (ctx.receivers[i] != kActive) continue;
+              lo = glm::min(lo, DVec3(g.shadow_origin(i)));
+              hi = glm::max(hi, DVec3(g.shadow_origin(i)));
+            }
+          if (!(lo.x <= hi.x)) continue;  // no active pixel
+          block.clear();
+          for (const uint32_t k : bin)
+            if (!zero_weight_over_box(edges, edges.edges[bw.group[k]], lo, hi) &&
+                bw.wedges[k].may_hold_box(lo, hi))
+              block.push_back(k);
+          st.block_entries += block.size();
+          for (int y = by; y < y1; ++y)
+            for (int x = bx; x < x1; ++x) {
+              const size_t i = static_cast<size_t>(y) * g.width + x;
+              if (ctx.receivers[i] != kActive) continue;
+              if (block.empty()) {
+                out.lit[i] = sampler.shade(i, nullptr, block, st);
+                continue;
+              }
+              const PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
+              if (!pl.valid()) ++st.pass.fallbacks;  // in the light's plane: the centre count
+              out.lit[i] = sampler.shade(i, pl.valid() ? &pl : nullptr, block, st);
+            }
         }
-    });
-  }
+      }
+    }
+  });
   out.times.add("sampling", elapsed_ms(start));
 
   RowStats total;
@@ -370,6 +423,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
     total.d_min = std::min(total.d_min, r.d_min);
     total.d_max = std::max(total.d_max, r.d_max);
     total.pass += r.pass;
+    total.block_entries += r.block_entries;
   }
   size_t active = 0;
   for (size_t i = 0; i < g.pixel_count(); ++i) active += ctx.receivers[i] == kActive;
@@ -383,7 +437,11 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   k["wedge_construction_fallbacks"] = static_cast<double>(bw.degenerate);
   k["layer_classes"] = static_cast<double>(classes.size());
   k["alpha_textured_as_opaque"] = static_cast<double>(alpha_triangles);
-  k["light_plane_fallbacks"] = static_cast<double>(pass_totals.fallbacks);
+  k["light_plane_fallbacks"] = static_cast<double>(total.pass.fallbacks);
+  size_t binned = 0;
+  for (const auto& bin : bw.bins) binned += bin.size();
+  k["tile_bin_entries"] = static_cast<double>(binned);
+  k["block_bin_entries"] = static_cast<double>(total.block_entries);
   k["pixel_tests"] = static_cast<double>(total.pass.tests);
   k["pixels_inside_wedges"] = static_cast<double>(total.pass.inside);
   k["penumbra_pixels"] = static_cast<double>(total.penumbra_pixels);
