@@ -54,8 +54,8 @@ struct CoveredEdge {
 /// What one pixel's evaluation needs; thread-local, sized to the sample count.
 struct Scratch {
   std::vector<Vec2> uv;
-  std::vector<float> u, v, vis;
-  std::vector<uint8_t> emit;
+  dcs::SampleSet samples;  // per-pixel patterns
+  std::vector<float> vis;
   std::vector<int16_t> c16;
   std::vector<int32_t> c32;
   std::vector<CoveredEdge> covered;
@@ -63,10 +63,7 @@ struct Scratch {
   void resize(int n, size_t classes) {
     abs_sum.assign(classes, 0);
     uv.resize(n);
-    u.resize(n);
-    v.resize(n);
     vis.resize(n);
-    emit.resize(n);
     c16.resize(n * classes);
     c32.resize(n * classes);
   }
@@ -87,52 +84,42 @@ class Sampler {
         emission_(ctx.light.is_textured() ? &emission_texture(ctx.scene, ctx.light, "dcs")
                                           : nullptr),
         round_(ctx.light.shape == LightShape::disk || ctx.light.shape == LightShape::sphere) {
-    if (!ctx.samples.per_pixel()) {
-      const auto shared = ctx.samples.shared_samples();
-      shared_u_.resize(n_);
-      shared_v_.resize(n_);
-      shared_emit_.resize(n_);
-      for (int s = 0; s < n_; ++s) {
-        shared_u_[s] = shared[s].x;
-        shared_v_[s] = shared[s].y;
-        shared_emit_[s] = emits(shared[s]);
-      }
-    }
+    if (!ctx.samples.per_pixel())
+      shared_.assign(ctx.samples.shared_samples(), ctx.samples.k(),
+                     [&](const Vec2& uv) { return emits(uv); });
   }
 
   /// V of pixel i; pl null when no wedge of its tile can hold it (or it lies in the light plane).
-  float shade(size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, RowStats& st) {
+  /// `weights`: BlockWeights of `bin` (needed when pl is not null).
+  float shade(size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin,
+              dcs::BlockWeights* weights, RowStats& st) {
     thread_local Scratch sc;
     sc.resize(n_, classes_.size());
     const int width = ctx_.gbuffer.width;
     const int x = static_cast<int>(i % width), y = static_cast<int>(i / width);
-    const float* u = shared_u_.data();
-    const float* v = shared_v_.data();
-    const uint8_t* emit = shared_emit_.data();
-    if (ctx_.samples.per_pixel() || emission_) {
+    const dcs::SampleSet* samples = &shared_;
+    if (ctx_.samples.per_pixel()) {
       ctx_.samples.pixel_samples(x, y, sc.uv);
-      if (ctx_.samples.per_pixel()) {
-        for (int s = 0; s < n_; ++s) {
-          sc.u[s] = sc.uv[s].x;
-          sc.v[s] = sc.uv[s].y;
-          sc.emit[s] = emits(sc.uv[s]);
-        }
-        u = sc.u.data(), v = sc.v.data(), emit = sc.emit.data();
-      }
+      sc.samples.assign(sc.uv, ctx_.samples.k(), [&](const Vec2& uv) { return emits(uv); });
+      samples = &sc.samples;
     }
+    const dcs::SampleSet& ss = *samples;
 
     // The edges whose projection from p cuts the light, with their signed per-sample step.
     sc.covered.clear();
     std::vector<int>& abs_sum = sc.abs_sum;
     if (pl) {
-      for (const uint32_t k : bin) {
+      // The receiver's weights first: two plane tests per entry, and zero for most (pixel,
+      // straddling edge) pairs (the edge is no silhouette from p), which then skip the wedge test
+      // and the clip.
+      weights->evaluate(edges_, bin, bw_->group, pl->point());
+      st.straddle_weights += bin.size();
+      for (size_t j = 0; j < bin.size(); ++j) {
+        const int32_t m = weights->m[j];
+        if (m == 0) continue;
+        const uint32_t k = bin[j];
         const Wedge& w = bw_->wedges[k];
         const dcs::Edge& e = edges_.edges[bw_->group[k]];  // wedge k's edge
-        // The receiver's weight first: two plane tests, and zero for most (pixel, straddling edge)
-        // pairs (the edge is no silhouette from p), which then skip the wedge test and the clip.
-        st.straddle_weights += e.face_count > 0;
-        const int32_t m = dcs::multiplicity_for(edges_, e, pl->point());
-        if (m == 0) continue;
         ++st.pass.tests;
         if (!w.contains(pl->point())) continue;
         ++st.pass.inside;
@@ -160,7 +147,7 @@ class Sampler {
       ++st.umbra_early_outs;
       st.d_min = std::min(st.d_min, d0 - abs_sum[0]);
       st.d_max = std::max(st.d_max, d0 + abs_sum[0]);
-      return finish_uniform(i, emit, 0.0f);
+      return finish_uniform(i, ss, 0.0f);
     }
     if (ncov == 0) {
       // Every sample has the centre's counts (lit, umbra, or uniformly attenuated).
@@ -171,7 +158,7 @@ class Sampler {
         st.d_min = std::min(st.d_min, classes_[j].centre_counts[i]);
         st.d_max = std::max(st.d_max, classes_[j].centre_counts[i]);
       }
-      return finish_uniform(i, emit, t);
+      return finish_uniform(i, ss, t);
     }
 
     // Adaptive precision [§4.2.3]: 16-bit lanes unless this pixel's bound could overflow them.
@@ -179,12 +166,11 @@ class Sampler {
     for (size_t j = 0; j < classes_.size(); ++j)
       bound = std::max<int64_t>(
           bound, std::abs(static_cast<int64_t>(classes_[j].centre_counts[i])) + abs_sum[j]);
-    st.sample_tests += static_cast<uint64_t>(ncov) * n_;
     if (bound < std::numeric_limits<int16_t>::max()) {
-      return integrate(i, sc, sc.c16.data(), u, v, emit, st);
+      return integrate(i, sc, sc.c16.data(), ss, st);
     }
     ++st.wide_counters;
-    return integrate(i, sc, sc.c32.data(), u, v, emit, st);
+    return integrate(i, sc, sc.c32.data(), ss, st);
   }
 
  private:
@@ -207,15 +193,20 @@ class Sampler {
 
   /// Algorithm 7 on the counters, then eq. 4.1 / 4.2 (and §4.3.3's transmittance).
   template <class Counter>
-  float integrate(size_t i, Scratch& sc, Counter* counters, const float* u, const float* v,
-                  const uint8_t* emit, RowStats& st) {
+  float integrate(size_t i, Scratch& sc, Counter* counters, const dcs::SampleSet& ss,
+                  RowStats& st) {
     const size_t classes = classes_.size();
     for (size_t j = 0; j < classes; ++j)
       std::fill(counters + j * n_, counters + (j + 1) * n_,
                 static_cast<Counter>(classes_[j].centre_counts[i]));
     uint64_t updates = 0;
-    for (const CoveredEdge& ce : sc.covered)
-      updates += dcs::apply_region(counters + ce.layer_class * n_, u, v, n_, ce.region, ce.delta);
+    for (const CoveredEdge& ce : sc.covered) {
+      int first = 0, last = 0;
+      ss.range(ce.region.v_lo, ce.region.v_hi, first, last);
+      st.sample_tests += static_cast<uint64_t>(last - first);
+      updates += dcs::apply_region(counters + ce.layer_class * n_ + first, ss.u.data() + first,
+                                   ss.v.data() + first, last - first, ce.region, ce.delta);
+    }
     st.covered_updates += updates;
     Counter lo = counters[0], hi = counters[0];
     for (size_t s = 0; s < classes * n_; ++s) {
@@ -232,17 +223,18 @@ class Sampler {
       const Counter* cj = counters + j * n_;
       for (int s = 0; s < n_; ++s) vis[s] = pass_through(vis[s], j, cj[s]);
     }
-    return finish(i, sc, emit, vis);
+    return finish(i, ss, vis);
   }
 
-  float finish(size_t i, Scratch& sc, const uint8_t* emit, const float* vis) {
+  float finish(size_t i, const dcs::SampleSet& ss, const float* vis) {
+    const uint8_t* emit = ss.emit.data();
     if (out_.masks)
       for (int s = 0; s < n_; ++s)
-        if (emit[s] && vis[s] == 0.0f) out_.masks->set_blocked(i, s);
+        if (emit[s] && vis[s] == 0.0f) out_.masks->set_blocked(i, ss.index[s]);
     if (emission_) {
       const LightFrame frame = light_frame(ctx_.light, ctx_.gbuffer.shadow_origin(i));
       const SampleWeights w = accumulate_sample_weights(frame, emission_, ctx_.light.radiance,
-                                                        sc.uv, std::span<const float>(vis, n_));
+                                                        ss.uv, std::span<const float>(vis, n_));
       (*out_.lit_rgb)[i] = w.visible_fraction_rgb();
       return w.visible_fraction();
     }
@@ -256,10 +248,10 @@ class Sampler {
   }
 
   /// Every sample has visibility t.
-  float finish_uniform(size_t i, const uint8_t* emit, float t) {
+  float finish_uniform(size_t i, const dcs::SampleSet& ss, float t) {
     if (out_.masks && t == 0.0f)
       for (int s = 0; s < n_; ++s)
-        if (emit[s]) out_.masks->set_blocked(i, s);
+        if (ss.emit[s]) out_.masks->set_blocked(i, ss.index[s]);
     if (emission_) (*out_.lit_rgb)[i] = Vec3(t);
     return t;
   }
@@ -273,8 +265,7 @@ class Sampler {
   int n_;
   const Texture* emission_;
   bool round_;
-  std::vector<float> shared_u_, shared_v_;
-  std::vector<uint8_t> shared_emit_;
+  dcs::SampleSet shared_;  // the pixel-independent patterns, sorted once
 };
 
 /// Whether a straddling edge's weight is 0 for every point of the box [lo, hi]: each face plane
@@ -370,6 +361,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   parallel_rows(tiles_y, [&](int ty) {
     RowStats& st = rows[ty];
     std::vector<uint32_t> block;
+    dcs::BlockWeights weights;
     const std::vector<uint32_t> none;
     for (int tx = 0; tx < tiles_x; ++tx) {
       const std::vector<uint32_t>& bin =
@@ -392,17 +384,18 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
                 bw.wedges[k].may_hold_box(lo, hi))
               block.push_back(k);
           st.block_entries += block.size();
+          weights.assign(edges, block, bw.group);
           for (int y = by; y < y1; ++y)
             for (int x = bx; x < x1; ++x) {
               const size_t i = static_cast<size_t>(y) * g.width + x;
               if (ctx.receivers[i] != kActive) continue;
               if (block.empty()) {
-                out.lit[i] = sampler.shade(i, nullptr, block, st);
+                out.lit[i] = sampler.shade(i, nullptr, block, nullptr, st);
                 continue;
               }
               const PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
               if (!pl.valid()) ++st.pass.fallbacks;  // in the light's plane: the centre count
-              out.lit[i] = sampler.shade(i, pl.valid() ? &pl : nullptr, block, st);
+              out.lit[i] = sampler.shade(i, pl.valid() ? &pl : nullptr, block, &weights, st);
             }
         }
       }

@@ -1,5 +1,8 @@
 #include "penumbra/shadows/wedges/dcs_counters.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace penumbra::dcs {
 
 namespace {
@@ -16,6 +19,25 @@ void half_plane(CoveredRegion& r, int k, const DVec2& origin, const DVec2& dir, 
   r.c[k] = static_cast<float>(-(a * origin.x + b * origin.y));
 }
 
+/// The v extent of sector(c; a, b) ∩ [0,1]² (angle below π): a, b, where the rays c → a and
+/// c → b leave the square, and the corners between them.
+void sector_v_range(const DVec2& c, const DVec2& a, const DVec2& b, double sg, CoveredRegion& r) {
+  double lo = std::min(a.y, b.y), hi = std::max(a.y, b.y);
+  for (const DVec2& p : {a, b}) {
+    const DVec2 d = p - c;
+    const double m = std::max(std::abs(d.x), std::abs(d.y));
+    if (m > 0.0) {
+      const double y = c.y + 0.5 / m * d.y;
+      lo = std::min(lo, y), hi = std::max(hi, y);
+    }
+  }
+  for (const DVec2 corner : {DVec2(0, 0), DVec2(1, 0), DVec2(0, 1), DVec2(1, 1)})
+    if (sg * cross2(a - c, corner - c) >= 0.0 && sg * cross2(corner - c, b - c) >= 0.0)
+      lo = std::min(lo, corner.y), hi = std::max(hi, corner.y);
+  r.v_lo = std::max(0.0, lo);
+  r.v_hi = std::min(1.0, hi);
+}
+
 }  // namespace
 
 bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& r, int& turn) {
@@ -26,6 +48,7 @@ bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& r, int& turn)
     half_plane(r, 0, c, a - c, sg);  // counter-clockwise (for sg = +1) of c → a
     half_plane(r, 1, c, c - b, sg);  // clockwise of c → b: sg · cross(s − c, b − c) ≥ 0
     half_plane(r, 2, a, b - a, sg);  // beyond the line: sg · cross(b − a, s − a) < 0
+    sector_v_range(c, a, b, sg, r);
     turn = o > 0.0 ? 1 : -1;
     return true;
   }
@@ -37,6 +60,7 @@ bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& r, int& turn)
   const double sg = side > 0.0 ? 1.0 : -1.0;
   for (int k = 0; k < 2; ++k) r.a[k] = r.b[k] = 0.0f, r.c[k] = 1.0f;  // always true
   half_plane(r, 2, a, b - a, sg);
+  r.v_lo = 0.0, r.v_hi = 1.0;
   turn = side > 0.0 ? 1 : -1;
   return true;
 }

@@ -20,21 +20,67 @@
 // outer-before-inner ordering (§4.1.4's two batches exist only for unsigned counters).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "penumbra/core/math.hpp"
 
 namespace penumbra::dcs {
 
-/// covered(s) ⟺ h1(s) ≥ 0 ∧ h2(s) ≥ 0 ∧ h3(s) < 0 with h_i(s) = a_i·u + b_i·v + c_i.
+/// covered(s) ⟺ h1(s) ≥ 0 ∧ h2(s) ≥ 0 ∧ h3(s) < 0 with h_i(s) = a_i·u + b_i·v + c_i; every
+/// covered sample has v_lo ≤ v ≤ v_hi.
 struct CoveredRegion {
   float a[3], b[3], c[3];
+  double v_lo = 0.0, v_hi = 1.0;
 };
 
 /// The samples the walk from the light centre (0.5, 0.5) to them crosses the clipped uv segment
 /// a → b; `turn` gets the side (+1: (c, a, b) counter-clockwise, −1 clockwise) the count changes
 /// with. False when no sample can be crossed (c on the segment's line but off the segment).
 bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& region, int& turn);
+
+/// The samples of one pixel sorted into k bands of v (band j: j/k ≤ v < (j+1)/k), so that an
+/// edge tests only the bands its covered region spans — most projected edges cover a few samples
+/// near the light's border. `index` maps back to LightSamples order (masks).
+struct SampleSet {
+  int k = 0;
+  std::vector<float> u, v;
+  std::vector<Vec2> uv;
+  std::vector<uint8_t> emit;
+  std::vector<uint16_t> index;
+  std::vector<int> band_begin;  // k + 1 entries
+  /// Sorts `light_uv` (k² samples) by band; emit(uv) tells the emitting ones.
+  template <class Emits>
+  void assign(std::span<const Vec2> light_uv, int bands, Emits&& emits) {
+    k = bands;
+    const size_t n = light_uv.size();
+    u.resize(n), v.resize(n), uv.resize(n), emit.resize(n), index.resize(n);
+    band_begin.assign(k + 2, 0);
+    auto band = [&](const Vec2& p) {
+      return std::clamp(static_cast<int>(p.y * static_cast<float>(k)), 0, k - 1);
+    };
+    for (const Vec2& p : light_uv) ++band_begin[band(p) + 2];
+    for (int j = 2; j < k + 2; ++j) band_begin[j] += band_begin[j - 1];
+    for (size_t s = 0; s < n; ++s) {
+      const int at = band_begin[band(light_uv[s]) + 1]++;
+      u[at] = light_uv[s].x, v[at] = light_uv[s].y, uv[at] = light_uv[s];
+      emit[at] = emits(light_uv[s]) ? 1 : 0;
+      index[at] = static_cast<uint16_t>(s);
+    }
+    band_begin.pop_back();
+  }
+  /// The sample range [first, last) of the bands holding [v_lo, v_hi].
+  void range(double v_lo, double v_hi, int& first, int& last) const {
+    const double m = 1e-5;  // the float test may accept a sample a rounding error outside
+    const int b0 = std::clamp(static_cast<int>(std::floor((v_lo - m) * k)), 0, k - 1);
+    const int b1 = std::clamp(static_cast<int>(std::floor((v_hi + m) * k)), 0, k - 1);
+    first = band_begin[b0];
+    last = band_begin[b1 + 1];
+  }
+};
 
 /// counters[s] += delta for every covered sample; returns how many were covered.
 template <class Counter>

@@ -59,4 +59,48 @@ EdgeSet build_edges(const wedge_pass::CasterMeshes& casters,
   return set;
 }
 
+void BlockWeights::assign(const EdgeSet& set, const std::vector<uint32_t>& entries,
+                          const std::vector<uint32_t>& edge_of_entry) {
+  const size_t n = entries.size();
+  for (int f = 0; f < 2; ++f) {
+    nx[f].assign(n, 0.0), ny[f].assign(n, 0.0), nz[f].assign(n, 0.0);
+    d[f].assign(n, 0.0), sign[f].assign(n, 0.0);
+  }
+  constant.assign(n, 0.0);
+  general.assign(n, 0);
+  m.resize(n);
+  for (size_t j = 0; j < n; ++j) {
+    const Edge& e = set.edges[edge_of_entry[entries[j]]];
+    if (e.face_count == 0) {
+      constant[j] = e.centre_multiplicity;
+    } else if (e.face_count > 2) {
+      general[j] = 1;
+    } else {
+      for (uint32_t f = 0; f < e.face_count; ++f) {
+        const EdgeFace& face = set.faces[e.face_begin + f];
+        nx[f][j] = face.n.x, ny[f][j] = face.n.y, nz[f][j] = face.n.z;
+        d[f][j] = face.d;
+        sign[f][j] = face.sign;
+      }
+    }
+  }
+}
+
+void BlockWeights::evaluate(const EdgeSet& set, const std::vector<uint32_t>& entries,
+                            const std::vector<uint32_t>& edge_of_entry, const DVec3& p) {
+  const size_t n = entries.size();
+  const double px = p.x, py = p.y, pz = p.z;
+  // −Σ side · sign (multiplicity_for), branch-free over the entries.
+  for (size_t j = 0; j < n; ++j) {
+    double w = constant[j];
+    for (int f = 0; f < 2; ++f) {
+      const double s = nx[f][j] * px + ny[f][j] * py + nz[f][j] * pz - d[f][j];
+      w -= ((s > 0.0) - (s < 0.0)) * sign[f][j];
+    }
+    m[j] = static_cast<int32_t>(w);
+  }
+  for (size_t j = 0; j < n; ++j)
+    if (general[j]) m[j] = multiplicity_for(set, set.edges[edge_of_entry[entries[j]]], p);
+}
+
 }  // namespace penumbra::dcs

@@ -81,4 +81,20 @@ inline int32_t multiplicity_for(const EdgeSet& set, const Edge& e, const DVec3& 
   return m;
 }
 
+/// The weights of a list of wedges (a pixel block's bin) in a SIMD-friendly layout: per entry
+/// the two face planes of a straddling edge (sign 0 and a zero plane for a boundary edge's missing
+/// face), or the constant centre multiplicity. Edges with three or more faces (non-manifold) are
+/// `general` and take multiplicity_for.
+struct BlockWeights {
+  std::vector<double> nx[2], ny[2], nz[2], d[2], sign[2], constant;
+  std::vector<uint8_t> general;
+  std::vector<int32_t> m;  // per entry, the weight for the last point given to `evaluate`
+
+  void assign(const EdgeSet& set, const std::vector<uint32_t>& entries,
+              const std::vector<uint32_t>& edge_of_entry);
+  /// m[j] for every entry at point p.
+  void evaluate(const EdgeSet& set, const std::vector<uint32_t>& entries,
+                const std::vector<uint32_t>& edge_of_entry, const DVec3& p);
+};
+
 }  // namespace penumbra::dcs
