@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "penumbra/pipeline/shading.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "support/frame_helpers.hpp"
@@ -181,6 +182,26 @@ TEST(Dcs, TexturedLightRgbEqualsRaytrace) {
   EXPECT_GT(partial, 50);
   EXPECT_LE(max_rgb, 1e-5);
   EXPECT_LE(v_diff(t, rt.per_light[0].lit, d.per_light[0].lit).max, 1e-5);
+}
+
+/// Eq. 4.6: `--shading integrate` sums the per-sample radiance of the unblocked samples; with
+/// dcs's masks the image is raytrace's.
+TEST(Dcs, IntegrateShadingEqualsRaytrace) {
+  const auto t =
+      make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 32, 32, grid(8));
+  const MethodResult rt = t.run("raytrace", {}, true);
+  const MethodResult d = t.run("dcs", {}, true);
+  const Image<Vec3> a = shade(*t.frame, {&rt.per_light[0]}, ShadingMode::integrate);
+  const Image<Vec3> b = shade(*t.frame, {&d.per_light[0]}, ShadingMode::integrate);
+  const Image<Vec3> m = shade(*t.frame, {&d.per_light[0]}, ShadingMode::modulate);
+  double max_diff = 0.0, modulate_diff = 0.0;
+  for (size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      max_diff = std::max(max_diff, std::abs(double(a[i][c]) - b[i][c]));
+      modulate_diff = std::max(modulate_diff, std::abs(double(a[i][c]) - m[i][c]));
+    }
+  EXPECT_LE(max_diff, 1e-6);
+  EXPECT_GT(modulate_diff, 1e-3);  // the per-sample integration is not the modulated image
 }
 
 Scene semi_opaque(Scene scene, float transmittance) {
