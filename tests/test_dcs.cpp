@@ -11,6 +11,7 @@
 #include "penumbra/pipeline/shading.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
+#include "penumbra/scene/shapes.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
 
@@ -80,6 +81,27 @@ TEST(Dcs, MasksEqualRaytraceOnDefaultWithoutAlpha) {
 TEST(Dcs, MasksEqualRaytraceOnOpenFlippedNonManifoldMesh) {
   expect_equal_masks(
       compare_masks(make_test_frame(test::open_non_manifold_scene(), 48, 48, grid(8))));
+}
+
+/// The centre count from the light-facing half of closed meshes plus winding numbers
+/// (wedges/dcs_init.hpp): camera and light inside a closed box around the scene (w = 1 at both),
+/// and the light alone inside a closed box (w(c) = 1, the camera outside: everything outside dark).
+TEST(Dcs, MasksEqualRaytraceWithClosedMeshesAroundCameraOrLight) {
+  Scene room = make_builtin_scene("spheres");
+  room.meshes.push_back(make_box(Vec3(0.0f, 2.5f, 0.0f), Vec3(7.0f, 3.2f, 7.0f)));
+  room.meshes.back().material = room.meshes[0].material;
+  expect_equal_masks(compare_masks(make_test_frame(std::move(room), 32, 32, grid(8))), 50);
+  Scene lantern = make_builtin_scene("spheres");
+  const Light& l = lantern.lights[0];
+  lantern.meshes.push_back(make_box(l.center, Vec3(0.9f, 0.3f, 0.9f)));
+  lantern.meshes.back().material = lantern.meshes[0].material;
+  const auto t = make_test_frame(std::move(lantern), 32, 32, grid(4));
+  const MethodResult d = t.run("dcs");
+  double lit = 0.0;
+  for (size_t i = 0; i < d.per_light[0].lit.size(); ++i)
+    if (t.frame->receivers(0)[i] == kActive) lit += d.per_light[0].lit[i];
+  EXPECT_EQ(lit, 0.0);
+  expect_equal_masks(compare_masks(t), 50);
 }
 
 TEST(Dcs, MasksEqualRaytraceForDiskAndSphereLights) {

@@ -13,6 +13,7 @@
 #include "penumbra/shadows/light_weights.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/dcs_counters.hpp"
+#include "penumbra/shadows/wedges/dcs_init.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/wedges.hpp"
@@ -330,10 +331,12 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   // §4.1.1: the constant of integration, the shadow-volume count from the light centre.
   start = std::chrono::steady_clock::now();
   const Vec3 centre = hard_shadow_point(light);
-  for (LayerClass& c : classes) {
-    c.centre_counts = classes.size() == 1
-                          ? shadow_volume_counts(ctx.scene, setup.volume, g, ctx.receivers, centre)
-                          : hard_counts(ctx, c.meshes, centre, &setup.volume);
+  for (size_t j = 0; j < classes.size(); ++j) {
+    std::vector<const MeshEdges*> class_edges;
+    for (size_t m = 0; m < casters.meshes.size(); ++m)
+      if (mesh_class[m] == j) class_edges.push_back(&casters.edges[m]);
+    classes[j].centre_counts =
+        dcs::centre_counts(ctx, classes[j].meshes, class_edges, centre, setup.volume);
   }
   out.times.add("init", elapsed_ms(start));
 

@@ -1,0 +1,66 @@
+#include "penumbra/shadows/wedges/dcs_init.hpp"
+
+#include <cmath>
+#include <memory>
+
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/silhouettes.hpp"
+#include "penumbra/shadows/wedges/pass.hpp"
+
+namespace penumbra::dcs {
+
+int winding_number(const Mesh& mesh, const MeshEdges& edges, const DVec3& x) {
+  double total = 0.0;
+  for (size_t f = 0; f < edges.faces.size(); ++f) {
+    if (!edges.face_valid(f)) continue;
+    const auto& w = edges.faces[f];
+    const DVec3 a = DVec3(mesh.positions[w[0]]) - x, b = DVec3(mesh.positions[w[1]]) - x,
+                c = DVec3(mesh.positions[w[2]]) - x;
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    // Van Oosterom–Strackee: tan(Ω/2) = det(a, b, c) / (|a||b||c| + (a·b)|c| + (b·c)|a| +
+    // (c·a)|b|).
+    const double num = glm::dot(a, glm::cross(b, c));
+    const double den =
+        la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb;
+    total += 2.0 * std::atan2(num, den);
+  }
+  return static_cast<int>(std::lround(total / (4.0 * kPi)));
+}
+
+Image<int32_t> centre_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+                             const std::vector<const MeshEdges*>& edges, const Vec3& centre,
+                             const ShadowVolumePixels& pixels) {
+  std::vector<const Mesh*> whole, facing;
+  std::vector<std::unique_ptr<Mesh>> owned;
+  int winding = 0;  // Σ over the closed meshes of w(c) − w(camera)
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const Mesh& mesh = *meshes[m];
+    const MeshEdges& e = *edges[m];
+    if (!e.closed_manifold() || ctx.scene.material_of(mesh).alpha_texture >= 0) {
+      whole.push_back(&mesh);
+      continue;
+    }
+    const std::vector<int8_t> sides = face_sides(mesh, e, centre);
+    auto part = std::make_unique<Mesh>();
+    part->positions = mesh.positions;
+    for (size_t f = 0; f < sides.size(); ++f)
+      if (sides[f] > 0) part->triangles.push_back(mesh.triangles[f]);
+    winding += winding_number(mesh, e, DVec3(centre)) -
+               winding_number(mesh, e, DVec3(ctx.scene.camera.position));
+    if (!part->triangles.empty()) facing.push_back(part.get());
+    owned.push_back(std::move(part));
+  }
+  const GBuffer& g = ctx.gbuffer;
+  Image<int32_t> out(g.width, g.height, 0);
+  if (!whole.empty()) out = wedge_pass::hard_counts(ctx, whole, centre, &pixels);
+  if (!facing.empty()) {
+    const Image<int32_t> x = wedge_pass::hard_counts(ctx, facing, centre, &pixels);
+    for (size_t i = 0; i < out.size(); ++i) out[i] += 2 * x[i];
+  }
+  if (winding != 0)
+    for (size_t i = 0; i < out.size(); ++i)
+      if (ctx.receivers[i] == kActive) out[i] += winding;
+  return out;
+}
+
+}  // namespace penumbra::dcs
