@@ -1,7 +1,7 @@
 // Google Benchmark: depth complexity sampling [Forest 2008 ch. 4] against Embree (packets) and
 // GEARS at the same k×k grid samples, in one run.
 //   ./build/release/bench/bench_dcs --benchmark_counters_tabular=true
-//   ./build/release/bench/bench_dcs --benchmark_filter='/bunny/1024/16/1$'
+//   ./build/release/bench/bench_dcs --benchmark_filter='bunny/1024'
 // Args: {image size, k, light scale ×1..×5}. Scenes: bunny, dragon, armadillo, elephant (need
 // scripts/fetch-models.sh), spheres. The ratios of interest are Raytrace/Dcs and Gears/Dcs of the
 // same Args; DcsCentre is the inexact light-centre silhouette (Forest fig. 4.3a) for its cost.
