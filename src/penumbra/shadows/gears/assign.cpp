@@ -138,9 +138,12 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   const double straddle_z = cam.light_max_z + 1e-6 * std::max(1.0, std::abs(far_z));
   const CellRect whole{0, 0, cam.res_x - 1, cam.res_y - 1};
 
+  // A blocker can be as deep as the deepest light point (a sphere reaches behind samples within
+  // its depth slab): the depth cut compares against max(deepest sample, light_max_z).
   auto cell_ok = [&](int c, float zmin) {
     const float mz = cells.max_z[c];
-    return options.cell_depth_cull ? mz >= zmin : mz > -kInfinity;
+    if (!(mz > -kInfinity)) return false;  // no samples
+    return !options.cell_depth_cull || std::max(mz, cam.light_max_z) >= zmin;
   };
 
   // Pass 1 (count): footprint, retraction, cellsN per triangle.

@@ -45,7 +45,8 @@ struct Scratch {
   CandidateBatch batch;
   LineBatch lines;
   std::vector<Vec2> light_uv;
-  std::vector<float> su, sv, vis, trans;
+  std::vector<float> su, sv, vis, trans;  // trans: the pixel's per-sample transmittance
+  std::vector<Vec2> shade_uv;
   std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
   std::vector<uint64_t> cover, blocked;
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
@@ -171,13 +172,35 @@ class Gears final : public ShadowMethod {
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
-    // Per-pixel transmittance (semi-opaque occluders only).
-    std::vector<float> trans;
-    if (any_translucent) trans.assign(static_cast<size_t>(active.size()) * n, 1.0f);
-    std::vector<uint32_t> active_slot(g.pixel_count(), 0);
-    for (size_t a = 0; a < active.size(); ++a) active_slot[active[a]] = static_cast<uint32_t>(a);
 
     tbb::enumerable_thread_specific<Scratch> scratch;
+
+    // Step 5 for one pixel: V from its mask (and transmittances `tr`, semi-opaque occluders only).
+    auto shade = [&](uint32_t pix, const float* tr, Scratch& sc) {
+      const uint64_t* m = masks.pixel(pix);
+      if (simple_weights && !tr) {
+        int blocked = 0;
+        for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
+        SampleWeights w;
+        w.visible = Vec3(static_cast<float>(emit_count - blocked));
+        w.total = Vec3(static_cast<float>(emit_count));
+        vis.lit[pix] = w.visible_fraction();
+        return;
+      }
+      const LightFrame frame = light_frame(light, g.shadow_origin(pix));
+      sc.shade_uv.resize(n);
+      sc.vis.resize(n);
+      ctx.samples.pixel_samples(static_cast<int>(pix % g.width), static_cast<int>(pix / g.width),
+                                sc.shade_uv);
+      for (int s = 0; s < n; ++s) {
+        const bool blk = (m[s >> 6] >> (s & 63)) & 1u;
+        sc.vis[s] = blk ? 0.0f : (tr ? tr[s] : 1.0f);
+      }
+      const SampleWeights w =
+          accumulate_sample_weights(frame, emission, light.radiance, sc.shade_uv, sc.vis);
+      vis.lit[pix] = w.visible_fraction();
+      if (emission) vis.lit_rgb->operator[](pix) = w.visible_fraction_rgb();
+    };
 
     // One grid pass per side of the light plane that has samples.
     for (int side : {+1, -1}) {
@@ -304,7 +327,12 @@ class Gears final : public ShadowMethod {
                 const int nw = (ns + 63) / 64;
                 std::fill(sc.blocked.begin(), sc.blocked.end(), 0);
                 std::fill(std::begin(sc.rows), std::end(sc.rows), 0u);
-                float* tr = any_translucent ? &trans[static_cast<size_t>(a) * n] : nullptr;
+                // Per-sample transmittance (semi-opaque occluders only), shaded with this pixel.
+                float* tr = nullptr;
+                if (any_translucent) {
+                  sc.trans.assign(n, 1.0f);
+                  tr = sc.trans.data();
+                }
                 const uint32_t full_row = k >= 32 ? ~0u : (1u << k) - 1u;
 
                 auto fully_blocked = [&]() {
@@ -429,6 +457,7 @@ class Gears final : public ShadowMethod {
                 // Only emitting samples carry bits (SampleMasks convention).
                 if (!point)
                   for (int i = 0; i < words; ++i) out[i] &= em[i];
+                if (tr) shade(pix, tr, sc);
               }
             }
             from_grid += l_grid;
@@ -445,38 +474,15 @@ class Gears final : public ShadowMethod {
     vis.times.add("sort_pairs", astats.sort_ms);
     vis.times.add("bitmask_rasterization", raster_ms);
 
-    // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays.
+    // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays. Scenes with
+    // semi-opaque occluders shade inside the work item (above), while the pixel's transmittances
+    // are in the thread's scratch: memory per work item, not frame × samples.
     t0 = std::chrono::steady_clock::now();
-    parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
-      std::vector<Vec2> uvs(n);
-      std::vector<float> sample_vis(n);
-      for (size_t a = b; a < e; ++a) {
-        const uint32_t pix = active[a];
-        const uint64_t* m = masks.pixel(pix);
-        const float* tr = any_translucent ? &trans[a * n] : nullptr;
-        bool plain = simple_weights && !tr;
-        if (plain) {
-          int blocked = 0;
-          for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
-          SampleWeights w;
-          w.visible = Vec3(static_cast<float>(emit_count - blocked));
-          w.total = Vec3(static_cast<float>(emit_count));
-          vis.lit[pix] = w.visible_fraction();
-          continue;
-        }
-        const LightFrame frame = light_frame(light, g.shadow_origin(pix));
-        ctx.samples.pixel_samples(static_cast<int>(pix % g.width), static_cast<int>(pix / g.width),
-                                  uvs);
-        for (int s = 0; s < n; ++s) {
-          const bool blk = (m[s >> 6] >> (s & 63)) & 1u;
-          sample_vis[s] = blk ? 0.0f : (tr ? tr[s] : 1.0f);
-        }
-        const SampleWeights w =
-            accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
-        vis.lit[pix] = w.visible_fraction();
-        if (emission) vis.lit_rgb->operator[](pix) = w.visible_fraction_rgb();
-      }
-    });
+    if (!any_translucent)
+      parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
+        Scratch& sc = scratch.local();
+        for (size_t a = b; a < e; ++a) shade(active[a], nullptr, sc);
+      });
     vis.times.add("shading", elapsed_ms(t0));
 
     Counters& c = vis.counters;
@@ -501,9 +507,9 @@ class Gears final : public ShadowMethod {
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());
     c["assignments_necessary"] = static_cast<double>(necessary.load());
     c["pixels_early_full"] = static_cast<double>(early_full.load());
-    c["memory_bytes"] =
-        static_cast<double>(peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
-                            trans.size() * sizeof(float) + (lut ? lut->bytes() : 0));
+    c["memory_bytes"] = static_cast<double>(
+        peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
+        (any_translucent ? scratch.size() * n * sizeof(float) : 0) + (lut ? lut->bytes() : 0));
     c["rasterizer"] = use_rows ? 0.0 : (use_lut ? 1.0 : 2.0);  // 0 row spans, 1 LUT, 2 per sample
     if (ctx.want_masks) vis.masks = std::move(masks);
     return vis;

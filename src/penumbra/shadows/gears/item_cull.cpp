@@ -24,12 +24,13 @@ float widen_down(float x) {
 
 FlatLight flat_light(const GridCamera& camera) {
   FlatLight f;
+  f.max_z = camera.light_max_z;
   if (camera.light_min_z != 0.0f || camera.light_max_z != 0.0f) return f;  // sphere: not flat
   f.flat = true;
   f.lx0 = f.ly0 = kInfinity;
   f.lx1 = f.ly1 = -kInfinity;
   for (const Vec3& c : camera.light_corners) {
-    if (c.z != 0.0f) return FlatLight{};
+    if (c.z != 0.0f) return FlatLight{.max_z = camera.light_max_z};
     f.lx0 = std::min(f.lx0, c.x), f.lx1 = std::max(f.lx1, c.x);
     f.ly0 = std::min(f.ly0, c.y), f.ly1 = std::max(f.ly1, c.y);
   }
@@ -76,7 +77,7 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
 
 ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
                        int count) {
-  ItemBounds b{-kInfinity, kInfinity, -kInfinity, kInfinity, -kInfinity};
+  ItemBounds b{light.max_z, kInfinity, -kInfinity, kInfinity, -kInfinity};
   bool on_light_plane = false;
   for (int i = 0; i < count; ++i) {
     b.zmax = std::max(b.zmax, z[i]);

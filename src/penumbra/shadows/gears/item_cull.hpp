@@ -36,7 +36,7 @@ struct alignas(64) PackedTriangle {
 /// The samples of one work item, in the same coordinates: a triangle can block one of them only
 /// if may_block() holds.
 struct ItemBounds {
-  float zmax;      // deepest sample
+  float zmax;      // deepest sample, at least the light's deepest point
   float ix0, ix1;  // min (P.x − lx0)/P.z, max (P.x − lx1)/P.z over the samples
   float iy0, iy1;
 };
@@ -45,6 +45,10 @@ struct ItemBounds {
 struct FlatLight {
   bool flat = false;
   float lx0 = 0, lx1 = 0, ly0 = 0, ly1 = 0;
+  // Deepest light point (0; r for a sphere). A blocker on the segment from sample P to light point
+  // X lies no deeper than max(P.z, X.z): samples within a sphere's depth slab can be blocked by
+  // triangles deeper than themselves, so the depth cut compares against max(P.z, max_z).
+  float max_z = 0;
 };
 FlatLight flat_light(const GridCamera& camera);
 /// Rays only go to the light samples: with shared sample positions (light uv = light-space xy for
