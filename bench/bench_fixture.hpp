@@ -21,6 +21,8 @@ struct Fixture {
 inline bool scene_available(const std::string& scene) {
   if (scene == "bunny") return find_model("bunny00.off").has_value();
   if (scene == "dragon") return find_model("ChineseDragon-10kv.off").has_value();
+  if (scene == "armadillo") return find_model("armadillo.off").has_value();
+  if (scene == "elephant") return find_model("refined_elephant.off").has_value();
   return true;
 }
 

@@ -161,7 +161,8 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"cell_depth_cull", "false"}},
                                                        {{"eye_distance", "0.1"}},
                                                        {{"eye_distance", "20"}},
-                                                       {{"chunk", "1"}}}) {
+                                                       {{"chunk", "1"}},
+                                                       {{"pixel_cull", "false"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
   }

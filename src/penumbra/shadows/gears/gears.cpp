@@ -38,11 +38,12 @@ struct Options {
   AssignOptions assign;
   float eye_distance = 1.0f;
   int chunk = 32;
+  bool pixel_cull = true;
 };
 
 /// Per-thread buffers of the rasterization pass.
 struct Scratch {
-  CandidateBatch batch;
+  CandidateBatch batch, pixel_batch;  // a work item's candidates, one pixel's
   LineBatch lines;
   std::vector<Vec2> light_uv;
   std::vector<float> su, sv, vis, trans;  // trans: the pixel's per-sample transmittance
@@ -168,7 +169,8 @@ class Gears final : public ShadowMethod {
     const bool simple_weights = !emission && !per_pixel_samples && !point;
 
     AssignStats astats;
-    std::atomic<uint64_t> from_grid{0}, tested{0}, in_volume{0}, necessary{0}, early_full{0};
+    std::atomic<uint64_t> from_grid{0}, item_kept{0}, tested{0}, in_volume{0}, necessary{0},
+        early_full{0};
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
@@ -225,7 +227,10 @@ class Gears final : public ShadowMethod {
       FlatLight flat = flat_light(cam);
       if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
       const std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      const std::vector<TrianglePlane> planes =
+          triangle_planes(soup, plane_test_corners(flat, cam));
       peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
+                                            planes.size() * sizeof(TrianglePlane) +
                                             cells.sorted.capacity() * sizeof(CellPair) * 2);
 
       // Work items: (cell, run of ≤ chunk pixels) — cells hold from one to thousands of samples.
@@ -255,7 +260,8 @@ class Gears final : public ShadowMethod {
             sc.sv.resize(n);
             sc.cover.resize(words + 1);
             sc.blocked.resize(words + 1);
-            uint64_t l_grid = 0, l_tested = 0, l_volume = 0, l_necessary = 0, l_full = 0;
+            uint64_t l_grid = 0, l_item = 0, l_tested = 0, l_volume = 0, l_necessary = 0,
+                     l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
               // Samples are sorted by depth within the cell, so an item spans few depths.
@@ -267,7 +273,8 @@ class Gears final : public ShadowMethod {
               }
               const ItemBounds bounds =
                   item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
-              sc.batch.gather(packed.data(), table.pairs.data() + table.begin[item.cell],
+              sc.batch.gather(packed.data(), planes.data(),
+                              table.pairs.data() + table.begin[item.cell],
                               table.pairs.data() + table.end[item.cell], bounds);
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
@@ -275,6 +282,16 @@ class Gears final : public ShadowMethod {
                 const uint32_t a = cells.sorted[e].item;
                 const uint32_t pix = active[a];
                 const Vec3 p = p_light[a];
+                // The item's cull again with the pixel's own bounds (an item spans a cell's worth
+                // of directions, a pixel one) and the separating-plane test: only what it keeps is
+                // set up.
+                l_item += sc.batch.count;
+                const CandidateBatch* cand = &sc.batch;
+                if (opt_.pixel_cull) {
+                  const float pz = cells.sample_z[e];
+                  sc.pixel_batch.keep(sc.batch, item_bounds(flat, &p.x, &p.y, &pz, 1), p);
+                  cand = &sc.pixel_batch;
+                }
                 // This pixel's light: constant frames are the light space's own unit square.
                 PixelLight pl;
                 pl.p = p;
@@ -354,16 +371,15 @@ class Gears final : public ShadowMethod {
                 };
 
                 bool done = false;
-                for (int first = 0; first < sc.batch.count && !done; first += kLanes) {
-                  uint32_t surv =
-                      setup_batch(sc.batch, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
-                  l_tested += std::min(kLanes, sc.batch.count - first);
+                for (int first = 0; first < cand->count && !done; first += kLanes) {
+                  uint32_t surv = setup_batch(*cand, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
+                  l_tested += std::min(kLanes, cand->count - first);
                   l_volume += std::popcount(surv);
                   bool changed = false;
                   if (use_rows) {
                     // Opaque triangles straight into the pixel's rows; the others (alpha,
                     // semi-opaque) one by one below.
-                    const uint32_t opaque = surv & sc.batch.opaque_lanes(first);
+                    const uint32_t opaque = surv & cand->opaque_lanes(first);
                     const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
                     l_necessary += std::popcount(hit);
                     changed |= hit != 0;
@@ -372,7 +388,7 @@ class Gears final : public ShadowMethod {
                   while (surv) {
                     const int lane = std::countr_zero(surv);
                     surv &= surv - 1;
-                    const uint32_t tri = sc.batch.tri[first + lane];
+                    const uint32_t tri = cand->tri[first + lane];
                     bool covered;
                     if (use_rows) {
                       covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
@@ -461,6 +477,7 @@ class Gears final : public ShadowMethod {
               }
             }
             from_grid += l_grid;
+            item_kept += l_item;
             tested += l_tested;
             in_volume += l_volume;
             necessary += l_necessary;
@@ -503,7 +520,9 @@ class Gears final : public ShadowMethod {
     c["samples_per_cell_avg"] =
         nonempty_cells ? static_cast<double>(sum_samples) / nonempty_cells : 0.0;
     c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
-    c["assignments_total"] = static_cast<double>(tested.load());    // after the per-item cull
+    c["assignments_item"] = static_cast<double>(item_kept.load());  // after the per-item cull
+    c["assignments_total"] =
+        static_cast<double>(tested.load());  // set up: after the per-pixel cull
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());
     c["assignments_necessary"] = static_cast<double>(necessary.load());
     c["pixels_early_full"] = static_cast<double>(early_full.load());
@@ -577,6 +596,13 @@ void register_gears(MethodRegistry& registry) {
        {},
        1,
        1 << 20},
+      {"pixel_cull",
+       OptionType::boolean,
+       "true",
+       "re-cull each pixel's candidates (slabs, depth, separating plane) before the setup",
+       {},
+       0,
+       1},
   };
   info.create = [](const MethodOptions& o) {
     Options opt;
@@ -587,6 +613,7 @@ void register_gears(MethodRegistry& registry) {
     opt.assign.cell_depth_cull = o.get_bool("cell_depth_cull");
     opt.eye_distance = static_cast<float>(o.get_real("eye_distance"));
     opt.chunk = o.get_int("chunk");
+    opt.pixel_cull = o.get_bool("pixel_cull");
     return std::make_unique<Gears>(opt);
   };
   registry.add(std::move(info));
