@@ -200,10 +200,17 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   });
   stats.count_ms += elapsed_ms(t0);
 
-  // Prefix sum of cellsN [seed 004 §4.2].
+  // Prefix sum of cellsN [seed 004 §4.2], in order of nearest depth (ties: triangle id): the
+  // stable sort by cell keeps that order, so each cell's list is sorted by depth and a work item
+  // reads only the prefix its deepest sample can be blocked by (the depth cut).
   t0 = std::chrono::steady_clock::now();
+  std::vector<uint32_t> order(n);
+  for (size_t t = 0; t < n; ++t) order[t] = static_cast<uint32_t>(t);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return zmins[a] < zmins[b] || (zmins[a] == zmins[b] && a < b);
+  });
   std::vector<uint64_t> offsets(n + 1, 0);
-  for (size_t t = 0; t < n; ++t) offsets[t + 1] = offsets[t] + counts[t];
+  for (size_t i = 0; i < n; ++i) offsets[i + 1] = offsets[i] + counts[order[i]];
   stats.prefix_ms += elapsed_ms(t0);
 
   // Pass 2: write the (triID, cellID) pairs.
@@ -212,10 +219,11 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   out.zmin = zmins;
   out.pairs.resize(offsets[n]);
   parallel_chunks(n, 1024, [&](size_t b, size_t e) {
-    for (size_t t = b; t < e; ++t) {
+    for (size_t i = b; i < e; ++i) {
+      const uint32_t t = order[i];
       const CellRect& r = rects[t];
       if (r.empty()) continue;
-      uint64_t o = offsets[t];
+      uint64_t o = offsets[i];
       for (int y = r.y0; y <= r.y1; ++y)
         for (int x = r.x0; x <= r.x1; ++x) {
           const int c = y * cam.res_x + x;

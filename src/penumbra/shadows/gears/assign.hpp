@@ -45,7 +45,8 @@ struct AssignStats {
   double count_ms = 0, prefix_ms = 0, write_ms = 0, sort_ms = 0;
 };
 
-/// Candidate triangles per cell: cell c's triangles are tris[begin[c] .. end[c]), ascending ids.
+/// Candidate triangles per cell: cell c's triangles are pairs[begin[c] .. end[c]), by ascending
+/// nearest depth zmin (ties: ascending id).
 struct CellTriangles {
   std::vector<CellPair> pairs;  // sorted by cell
   std::vector<uint32_t> begin, end;

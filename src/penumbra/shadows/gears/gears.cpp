@@ -169,8 +169,8 @@ class Gears final : public ShadowMethod {
     const bool simple_weights = !emission && !per_pixel_samples && !point;
 
     AssignStats astats;
-    std::atomic<uint64_t> from_grid{0}, item_kept{0}, tested{0}, in_volume{0}, necessary{0},
-        early_full{0};
+    std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, tested{0}, in_volume{0},
+        necessary{0}, early_full{0};
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
@@ -260,8 +260,8 @@ class Gears final : public ShadowMethod {
             sc.sv.resize(n);
             sc.cover.resize(words + 1);
             sc.blocked.resize(words + 1);
-            uint64_t l_grid = 0, l_item = 0, l_tested = 0, l_volume = 0, l_necessary = 0,
-                     l_full = 0;
+            uint64_t l_grid = 0, l_read = 0, l_item = 0, l_tested = 0, l_volume = 0,
+                     l_necessary = 0, l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
               // Samples are sorted by depth within the cell, so an item spans few depths.
@@ -276,22 +276,14 @@ class Gears final : public ShadowMethod {
               sc.batch.gather(packed.data(), planes.data(),
                               table.pairs.data() + table.begin[item.cell],
                               table.pairs.data() + table.end[item.cell], bounds);
+              l_read += sc.batch.read;
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
               for (uint32_t e = item.begin; e < item.end; ++e) {
                 const uint32_t a = cells.sorted[e].item;
                 const uint32_t pix = active[a];
                 const Vec3 p = p_light[a];
-                // The item's cull again with the pixel's own bounds (an item spans a cell's worth
-                // of directions, a pixel one) and the separating-plane test: only what it keeps is
-                // set up.
                 l_item += sc.batch.count;
-                const CandidateBatch* cand = &sc.batch;
-                if (opt_.pixel_cull) {
-                  const float pz = cells.sample_z[e];
-                  sc.pixel_batch.keep(sc.batch, item_bounds(flat, &p.x, &p.y, &pz, 1), p);
-                  cand = &sc.pixel_batch;
-                }
                 // This pixel's light: constant frames are the light space's own unit square.
                 PixelLight pl;
                 pl.p = p;
@@ -370,94 +362,114 @@ class Gears final : public ShadowMethod {
                   return true;
                 };
 
-                bool done = false;
-                for (int first = 0; first < cand->count && !done; first += kLanes) {
-                  uint32_t surv = setup_batch(*cand, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
-                  l_tested += std::min(kLanes, cand->count - first);
-                  l_volume += std::popcount(surv);
-                  bool changed = false;
-                  if (use_rows) {
-                    // Opaque triangles straight into the pixel's rows; the others (alpha,
-                    // semi-opaque) one by one below.
-                    const uint32_t opaque = surv & cand->opaque_lanes(first);
-                    const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
-                    l_necessary += std::popcount(hit);
-                    changed |= hit != 0;
-                    surv &= ~opaque;
-                  }
-                  while (surv) {
-                    const int lane = std::countr_zero(surv);
-                    surv &= surv - 1;
-                    const uint32_t tri = cand->tri[first + lane];
-                    bool covered;
+                // Rasterizes a batch of candidates into the pixel's bits; true once every
+                // emitting sample is blocked (opaque).
+                auto rasterize = [&](const CandidateBatch& cb) {
+                  for (int first = 0; first < cb.count; first += kLanes) {
+                    uint32_t surv = setup_batch(cb, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
+                    l_tested += std::min(kLanes, cb.count - first);
+                    l_volume += std::popcount(surv);
+                    bool changed = false;
                     if (use_rows) {
-                      covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
-                      if (covered && (soup.opaque[tri] == 0)) {
-                        std::fill(sc.cover.begin(), sc.cover.end(), 0);
-                        rows_to_words(sc.tri_rows, k, sc.cover.data());
-                      }
-                    } else if (use_lut) {
-                      const uint64_t* m0 = lut->lookup(sc.lines.a[0][lane], sc.lines.b[0][lane],
-                                                       sc.lines.c[0][lane]);
-                      const uint64_t* m1 = lut->lookup(sc.lines.a[1][lane], sc.lines.b[1][lane],
-                                                       sc.lines.c[1][lane]);
-                      const uint64_t* m2 = lut->lookup(sc.lines.a[2][lane], sc.lines.b[2][lane],
-                                                       sc.lines.c[2][lane]);
-                      const uint64_t* m3 = lut->lookup(sc.lines.a[3][lane], sc.lines.b[3][lane],
-                                                       sc.lines.c[3][lane]);
-                      uint64_t any = 0;
-                      for (int i = 0; i < words; ++i)
-                        any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
-                      covered = any != 0;
-                    } else {
-                      covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
+                      // Opaque triangles straight into the pixel's rows; the others (alpha,
+                      // semi-opaque) one by one below.
+                      const uint32_t opaque = surv & cb.opaque_lanes(first);
+                      const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
+                      l_necessary += std::popcount(hit);
+                      changed |= hit != 0;
+                      surv &= ~opaque;
                     }
-                    if (!covered) continue;
-                    ++l_necessary;
-                    if (soup.opaque[tri]) {
+                    while (surv) {
+                      const int lane = std::countr_zero(surv);
+                      surv &= surv - 1;
+                      const uint32_t tri = cb.tri[first + lane];
+                      bool covered;
                       if (use_rows) {
-                        // Whole 16-row registers (raster_rows zero-fills up to them).
-                        for (int jb = 0; jb < k; jb += kLanes)
-                          for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
+                        covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
+                        if (covered && (soup.opaque[tri] == 0)) {
+                          std::fill(sc.cover.begin(), sc.cover.end(), 0);
+                          rows_to_words(sc.tri_rows, k, sc.cover.data());
+                        }
+                      } else if (use_lut) {
+                        const uint64_t* m0 = lut->lookup(sc.lines.a[0][lane], sc.lines.b[0][lane],
+                                                         sc.lines.c[0][lane]);
+                        const uint64_t* m1 = lut->lookup(sc.lines.a[1][lane], sc.lines.b[1][lane],
+                                                         sc.lines.c[1][lane]);
+                        const uint64_t* m2 = lut->lookup(sc.lines.a[2][lane], sc.lines.b[2][lane],
+                                                         sc.lines.c[2][lane]);
+                        const uint64_t* m3 = lut->lookup(sc.lines.a[3][lane], sc.lines.b[3][lane],
+                                                         sc.lines.c[3][lane]);
+                        uint64_t any = 0;
+                        for (int i = 0; i < words; ++i)
+                          any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
+                        covered = any != 0;
                       } else {
-                        for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
+                        covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
                       }
-                      changed = true;
-                      continue;
-                    }
-                    // Alpha-textured or semi-opaque: the texture decides per covered sample, at the
-                    // barycentrics of that sample's ray (as the Embree occlusion filter does).
-                    const Mesh& mesh = ctx.scene.meshes[soup.mesh[tri]];
-                    const Material& mat = ctx.scene.material_of(mesh);
-                    const Texture* alpha =
-                        mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
-                    for (int i = 0; i < nw; ++i) {
-                      uint64_t bits = sc.cover[i];
-                      while (bits) {
-                        const int s = 64 * i + std::countr_zero(bits);
-                        bits &= bits - 1;
-                        if (alpha) {
-                          const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
-                          if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
-                              kAlphaCutoff)
-                            continue;
-                        }
-                        if (mat.transmittance > 0.0f) {
-                          tr[s] *= mat.transmittance;
-                        } else if (use_rows) {
-                          sc.rows[s / k] |= 1u << (s % k);
-                          changed = true;
+                      if (!covered) continue;
+                      ++l_necessary;
+                      if (soup.opaque[tri]) {
+                        if (use_rows) {
+                          // Whole 16-row registers (raster_rows zero-fills up to them).
+                          for (int jb = 0; jb < k; jb += kLanes)
+                            for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
                         } else {
-                          sc.blocked[s >> 6] |= uint64_t{1} << (s & 63);
-                          changed = true;
+                          for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
+                        }
+                        changed = true;
+                        continue;
+                      }
+                      // Alpha-textured or semi-opaque: the texture decides per covered sample, at
+                      // the barycentrics of that sample's ray (as the Embree occlusion filter
+                      // does).
+                      const Mesh& mesh = ctx.scene.meshes[soup.mesh[tri]];
+                      const Material& mat = ctx.scene.material_of(mesh);
+                      const Texture* alpha =
+                          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
+                      for (int i = 0; i < nw; ++i) {
+                        uint64_t bits = sc.cover[i];
+                        while (bits) {
+                          const int s = 64 * i + std::countr_zero(bits);
+                          bits &= bits - 1;
+                          if (alpha) {
+                            const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
+                            if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
+                                kAlphaCutoff)
+                              continue;
+                          }
+                          if (mat.transmittance > 0.0f) {
+                            tr[s] *= mat.transmittance;
+                          } else if (use_rows) {
+                            sc.rows[s / k] |= 1u << (s % k);
+                            changed = true;
+                          } else {
+                            sc.blocked[s >> 6] |= uint64_t{1} << (s & 63);
+                            changed = true;
+                          }
                         }
                       }
                     }
+                    if (changed && fully_blocked()) {
+                      ++l_full;
+                      return true;
+                    }
                   }
-                  if (changed && fully_blocked()) {
-                    done = true;
-                    ++l_full;
+                  return false;
+                };
+                bool done = false;
+                if (opt_.pixel_cull) {
+                  // The item's candidates culled with the pixel's own bounds (an item spans a
+                  // cell's worth of directions, a pixel one) and the separating plane, in chunks
+                  // so that a full mask stops the cull as well.
+                  const float pz = cells.sample_z[e];
+                  const ItemBounds own = item_bounds(flat, &p.x, &p.y, &pz, 1);
+                  constexpr int kChunk = 8 * kLanes;
+                  for (int b = 0; b < sc.batch.count && !done; b += kChunk) {
+                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p);
+                    done = rasterize(sc.pixel_batch);
                   }
+                } else {
+                  done = rasterize(sc.batch);
                 }
                 uint64_t* out = masks.pixel(pix);
                 if (use_rows) {
@@ -478,6 +490,7 @@ class Gears final : public ShadowMethod {
             }
             from_grid += l_grid;
             item_kept += l_item;
+            gathered += l_read;
             tested += l_tested;
             in_volume += l_volume;
             necessary += l_necessary;
@@ -520,6 +533,7 @@ class Gears final : public ShadowMethod {
     c["samples_per_cell_avg"] =
         nonempty_cells ? static_cast<double>(sum_samples) / nonempty_cells : 0.0;
     c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
+    c["gather_reads"] = static_cast<double>(gathered.load());  // list entries read per work item
     c["assignments_item"] = static_cast<double>(item_kept.load());  // after the per-item cull
     c["assignments_total"] =
         static_cast<double>(tested.load());  // set up: after the per-pixel cull

@@ -86,8 +86,12 @@ void CandidateBatch::pad() {
 
 void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* planes,
                             const CellPair* begin, const CellPair* end, const ItemBounds& item) {
+  // The list is sorted by zmin: the depth cut keeps a prefix.
+  end = std::partition_point(
+      begin, end, [&](const CellPair& pair) { return tris[pair.item].zmin <= item.zmax; });
   reserve(static_cast<size_t>(end - begin) + kLanes);
   count = 0;
+  read = static_cast<int>(end - begin);
   // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
   // is unpredictable, the copy is one cache line).
   for (const CellPair* pair = begin; pair != end; ++pair) {
@@ -109,14 +113,16 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
   pad();
 }
 
-void CandidateBatch::keep(const CandidateBatch& from, const ItemBounds& bounds, const Vec3& p) {
-  reserve(static_cast<size_t>(from.padded) + kLanes);
+void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
+                          const Vec3& p) {
+  reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
   count = 0;
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
   const vf px = splat(p.x), py = splat(p.y), pz = splat(p.z);
   const vf p_inf = splat(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-  for (int first = 0; first < from.count; first += kLanes) {
-    // may_block() on 16 lanes (padding lanes fail the depth cut).
-    vi kept = (load(&from.zmin[first]) <= splat(bounds.zmax)) &
+  for (int first = begin; first < end; first += kLanes) {
+    // may_block() on 16 lanes (padding lanes fail the depth cut), within [begin, end).
+    vi kept = (lane_index + first < end) & (load(&from.zmin[first]) <= splat(bounds.zmax)) &
               (splat(bounds.ix0) <= load(&from.hx0[first])) &
               (splat(bounds.ix1) >= load(&from.hx1[first])) &
               (splat(bounds.iy0) <= load(&from.hy0[first])) &
@@ -153,6 +159,10 @@ void CandidateBatch::keep(const CandidateBatch& from, const ItemBounds& bounds, 
     move_u(opaque, from.opaque);
     count += std::popcount(m);
   }
+  pad_setup();
+}
+
+void CandidateBatch::pad_setup() {
   // A pixel's batch is only set up and rasterized: its cull arrays are not needed.
   padded = (count + kLanes - 1) / kLanes * kLanes;
   for (int i = count; i < padded; ++i) {

@@ -28,15 +28,17 @@ struct CandidateBatch {
   std::vector<uint32_t> opaque;  // 1: opaque material
   int count = 0;
   int padded = 0;
+  int read = 0;  // list entries the last gather() read
   /// Gathers the candidates of [begin, end) that may block one of the work item's samples
   /// (gears/item_cull.hpp: depth cut and edge-angle slabs).
   void gather(const PackedTriangle* tris, const TrianglePlane* planes, const CellPair* begin,
               const CellPair* end, const ItemBounds& item);
-  /// The candidates of `from` (a work item's) that may block sample `p` (unmirrored light space;
-  /// `pixel`: its ItemBounds): the item's tests for this one sample and the separating-plane test
-  /// (TrianglePlane), in the same order. A pixel sets up only what this keeps. (The plane test
-  /// on a whole item's box culls next to nothing: the planes of a curved surface cut it.)
-  void keep(const CandidateBatch& from, const ItemBounds& pixel, const Vec3& p);
+  /// The candidates from[begin, end) (a work item's) that may block sample `p` (unmirrored light
+  /// space; `pixel`: its ItemBounds): the item's tests for this one sample and the
+  /// separating-plane test (TrianglePlane), in the same order. A pixel sets up only what this
+  /// keeps. (The plane test on a whole item's box culls next to nothing: the planes of a curved
+  /// surface cut it.)
+  void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p);
   /// The lanes of batch [first, first+16) whose triangle is opaque.
   uint32_t opaque_lanes(int first) const {
     uint32_t m = 0;
@@ -47,6 +49,7 @@ struct CandidateBatch {
  private:
   void reserve(size_t most);
   void pad();
+  void pad_setup();
 };
 
 /// One pixel's light, in light space: light point X(u, v) = p + w + u·eu + v·ev.
