@@ -11,6 +11,7 @@
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
+#include "penumbra/shadows/gears/raster.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra {
@@ -246,6 +247,65 @@ TEST(Gears, ItemCullIsConservative) {
   std::printf("item cull: %d of 3000 random triangles block, %d culled\n", blocking, culled);
   EXPECT_GT(blocking, 100);
   EXPECT_GT(culled, 1000);
+}
+
+/// The per-pixel cull (CandidateBatch::keep: the slabs and depth cut for one sample, and the
+/// separating-plane test) never drops a triangle that blocks the sample from some light point:
+/// random triangles and samples in light space, a third of the samples within 10⁻³ of the
+/// triangle's plane (the neighbours of a sample on a closed mesh), blocking decided in double
+/// precision against 24×24 light points.
+TEST(Gears, PixelCullIsConservative) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f),
+      unit(0.0f, 1.0f);
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  gears::GridCamera cam;  // only its light corners matter for a flat light
+  int blocking = 0, culled = 0, near_plane = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    gears::TriangleSoup soup;
+    soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
+    DVec3 v[3];
+    for (int c = 0; c < 3; ++c) {
+      v[c] = DVec3(xy(rng), xy(rng), tz(rng));
+      soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
+    }
+    const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
+    const auto packed = gears::pack_triangles(soup, +1, zmin, light);
+    const auto planes = gears::triangle_planes(soup, gears::plane_test_corners(light, cam));
+    DVec3 o(xy(rng), xy(rng), sz(rng));
+    if (trial % 3 == 0) {
+      // Near the triangle's plane, on either side, above or beside the triangle.
+      const DVec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
+      const double a = unit(rng) * 1.6 - 0.3, b = unit(rng) * (1.3 - a);
+      o = v[0] + a * (v[1] - v[0]) + b * (v[2] - v[0]) + n * (unit(rng) * 2e-3 - 1e-3);
+      if (!(o.z > 0.01)) continue;
+      ++near_plane;
+    }
+    const Vec3 p(o);
+    const float pz = p.z;
+    const gears::CellPair pair{0, 0};
+    gears::CandidateBatch item, pixel;
+    const gears::ItemBounds bounds = gears::item_bounds(light, &p.x, &p.y, &pz, 1);
+    item.gather(packed.data(), planes.data(), &pair, &pair + 1, bounds);
+    pixel.keep(item, 0, item.count, bounds, p);
+    const bool kept = pixel.count == 1;
+    culled += !kept;
+    bool blocks = false;
+    for (int s = 0; s < 24 * 24 && !blocks; ++s) {
+      const DVec3 x((s % 24 + 0.5) / 24, (s / 24 + 0.5) / 24, 0.0);
+      blocks = test::segment_crosses_triangle(DVec3(p), x - DVec3(p), v[0], v[1], v[2]);
+    }
+    blocking += blocks;
+    if (blocks) {
+      EXPECT_TRUE(kept) << "trial " << trial;
+    }
+  }
+  std::printf("pixel cull: %d samples near the plane, %d of 4000 triangles block, %d culled\n",
+              near_plane, blocking, culled);
+  EXPECT_GT(blocking, 100);
+  EXPECT_GT(culled, 2000);
+  EXPECT_GT(near_plane, 1000);
 }
 
 TEST(Gears, PointLightGivesTheHardShadow) {
