@@ -197,7 +197,18 @@ TEST(Gears, NeverMissesABlockingTriangle) {
   EXPECT_EQ(missed, 0);
 }
 
-/// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
+/// One opaque triangle in light space, vertex coordinates drawn from xy (x, y) and z (depth).
+gears::TriangleSoup random_triangle(std::mt19937& rng, std::uniform_real_distribution<float>& xy,
+                                    std::uniform_real_distribution<float>& z, DVec3 v[3]) {
+  gears::TriangleSoup soup;
+  soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
+  for (int c = 0; c < 3; ++c) {
+    v[c] = DVec3(xy(rng), xy(rng), z(rng));
+    soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
+  }
+  return soup;
+}
+
 /// The per-work-item cull (gears/item_cull.hpp) never drops a triangle that blocks one of the
 /// item's samples from some light point: random triangles and sample sets in light space, blocking
 /// decided by a double-precision segment–triangle test against a 24×24 grid of light points.
@@ -208,13 +219,8 @@ TEST(Gears, ItemCullIsConservative) {
   light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
   int blocking = 0, culled = 0;
   for (int trial = 0; trial < 3000; ++trial) {
-    gears::TriangleSoup soup;
-    soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
     DVec3 v[3];
-    for (int c = 0; c < 3; ++c) {
-      v[c] = DVec3(xy(rng), xy(rng), tz(rng));
-      soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
-    }
+    const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
     const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
     const gears::PackedTriangle tri = gears::pack_triangles(soup, +1, zmin, light)[0];
     // A small cluster of samples, like a work item's.
@@ -263,13 +269,8 @@ TEST(Gears, PixelCullIsConservative) {
   gears::GridCamera cam;  // only its light corners matter for a flat light
   int blocking = 0, culled = 0, near_plane = 0;
   for (int trial = 0; trial < 4000; ++trial) {
-    gears::TriangleSoup soup;
-    soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
     DVec3 v[3];
-    for (int c = 0; c < 3; ++c) {
-      v[c] = DVec3(xy(rng), xy(rng), tz(rng));
-      soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
-    }
+    const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
     const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
     const auto packed = gears::pack_triangles(soup, +1, zmin, light);
     const auto planes = gears::triangle_planes(soup, gears::plane_test_corners(light, cam));
@@ -308,6 +309,7 @@ TEST(Gears, PixelCullIsConservative) {
   EXPECT_GT(near_plane, 1000);
 }
 
+/// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
 TEST(Gears, PointLightGivesTheHardShadow) {
   Scene scene = make_builtin_scene("spheres");
   scene.lights[0].shape = LightShape::point;

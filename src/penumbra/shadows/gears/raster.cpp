@@ -69,13 +69,9 @@ void CandidateBatch::reserve(size_t most) {
 }
 
 void CandidateBatch::pad() {
-  padded = (count + kLanes - 1) / kLanes * kLanes;
-  // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected), beyond every
-  // depth (never kept by keep()).
+  pad_setup();
+  // Padding lanes are beyond every depth too (never kept by keep()).
   for (int i = count; i < padded; ++i) {
-    tri[i] = 0;
-    opaque[i] = 0;
-    for (auto& a : v) a[i] = 0.0f;
     zmin[i] = kInfinity;
     hx0[i] = hy0[i] = -kInfinity;
     hx1[i] = hy1[i] = kInfinity;
@@ -136,16 +132,8 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
               ((side < -tol) & (load(&from.lmax[first]) < 0.0f)));
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
-    auto move = [&](std::vector<float>& to, const std::vector<float>& src) {
-#if defined(__AVX512F__)
-      _mm512_mask_compressstoreu_ps(&to[count], static_cast<__mmask16>(m),
-                                    _mm512_loadu_ps(&src[first]));
-#else
-      int o = count;
-      for (uint32_t l = m; l; l &= l - 1) to[o++] = src[first + std::countr_zero(l)];
-#endif
-    };
-    auto move_u = [&](std::vector<uint32_t>& to, const std::vector<uint32_t>& src) {
+    // Lanes m of src[first..] to to[count..], in order (4-byte elements: floats, ids, flags).
+    auto move = [&](auto& to, const auto& src) {
 #if defined(__AVX512F__)
       _mm512_mask_compressstoreu_epi32(&to[count], static_cast<__mmask16>(m),
                                        _mm512_loadu_si512(&src[first]));
@@ -155,15 +143,16 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
 #endif
     };
     for (int c = 0; c < 9; ++c) move(v[c], from.v[c]);
-    move_u(tri, from.tri);
-    move_u(opaque, from.opaque);
+    move(tri, from.tri);
+    move(opaque, from.opaque);
     count += std::popcount(m);
   }
   pad_setup();
 }
 
 void CandidateBatch::pad_setup() {
-  // A pixel's batch is only set up and rasterized: its cull arrays are not needed.
+  // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected). A pixel's
+  // batch is only set up and rasterized: its cull arrays are not padded.
   padded = (count + kLanes - 1) / kLanes * kLanes;
   for (int i = count; i < padded; ++i) {
     tri[i] = 0;
