@@ -1,10 +1,11 @@
 // Google Benchmark: GEARS [seed 004 §4.3] against the Embree baseline at equal samples, in one run.
 //   ./build/release/bench/bench_gears --benchmark_counters_tabular=true
 //   ./build/release/bench/bench_gears --benchmark_filter='/bunny/1024/16$'
-// Args: {image size, k (k×k grid samples), grid resolution, light scale ×1..×5}. Scenes: bunny
-// and dragon (need scripts/fetch-models.sh), spheres. The ratio of interest is
-// Raytrace/Gears of the same Args (raytrace ignores the grid resolution); RaytraceDynamic adds
-// the BVH build a moving scene pays every frame (the paper's "RT dyn." column).
+// Args: {image size, k (k×k grid samples), grid resolution, light scale ×1..×5}. Scenes: bunny,
+// dragon, armadillo and elephant (need scripts/fetch-models.sh), spheres. NoPixelCull: ablation.
+// The ratio of interest is Raytrace/Gears of the same Args (raytrace ignores the grid resolution);
+// RaytraceDynamic adds the BVH build a moving scene pays every frame (the paper's "RT dyn."
+// column).
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -41,14 +42,19 @@ void run_method(benchmark::State& state, const std::string& scene, const std::st
     counters = r.per_light[0].counters;
     benchmark::DoNotOptimize(r.per_light[0].lit.data());
   }
-  for (const char* key : {"triangles_per_cell_avg", "triangles_per_cell_max",
-                          "samples_per_cell_avg", "samples_per_cell_max", "pairs",
-                          "pairs_without_retraction", "assignments_total", "assignments_necessary"})
+  for (const char* key :
+       {"triangles_per_cell_avg", "triangles_per_cell_max", "samples_per_cell_avg",
+        "samples_per_cell_max", "pairs", "pairs_without_retraction", "assignments_grid",
+        "assignments_item", "assignments_total", "assignments_in_volume", "assignments_necessary"})
     if (counters.count(key)) state.counters[key] = counters.at(key);
 }
 
 void BM_Gears(benchmark::State& state, const std::string& scene) {
   run_method(state, scene, "gears", {{"variant", "edge"}});
+}
+/// Ablation: the same frame without the per-pixel cull (slabs, depth, separating plane).
+void BM_GearsNoPixelCull(benchmark::State& state, const std::string& scene) {
+  run_method(state, scene, "gears", {{"variant", "edge"}, {"pixel_cull", "false"}});
 }
 void BM_GearsLut(benchmark::State& state, const std::string& scene) {
   run_method(state, scene, "gears", {{"variant", "lut"}});
@@ -81,6 +87,12 @@ BENCHMARK_CAPTURE(BM_Raytrace, dragon, std::string("dragon"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Gears, dragon, std::string("dragon"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Raytrace, spheres, std::string("spheres"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Gears, spheres, std::string("spheres"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, armadillo, std::string("armadillo"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, armadillo, std::string("armadillo"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, elephant, std::string("elephant"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, elephant, std::string("elephant"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_GearsNoPixelCull, bunny, std::string("bunny"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_GearsNoPixelCull, elephant, std::string("elephant"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Gears, bunny_sweep, std::string("bunny"))->Apply(sweeps);
 BENCHMARK_CAPTURE(BM_Raytrace, bunny_sweep, std::string("bunny"))->Apply(sweeps);
 

@@ -11,6 +11,7 @@
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
+#include "penumbra/shadows/gears/raster.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
 
@@ -87,7 +88,8 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"cell_depth_cull", "false"}},
                                                        {{"eye_distance", "0.1"}},
                                                        {{"eye_distance", "20"}},
-                                                       {{"chunk", "1"}}}) {
+                                                       {{"chunk", "1"}},
+                                                       {{"pixel_cull", "false"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
   }
@@ -121,7 +123,18 @@ TEST(Gears, NeverMissesABlockingTriangle) {
   EXPECT_EQ(missed, 0);
 }
 
-/// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
+/// One opaque triangle in light space, vertex coordinates drawn from xy (x, y) and z (depth).
+gears::TriangleSoup random_triangle(std::mt19937& rng, std::uniform_real_distribution<float>& xy,
+                                    std::uniform_real_distribution<float>& z, DVec3 v[3]) {
+  gears::TriangleSoup soup;
+  soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
+  for (int c = 0; c < 3; ++c) {
+    v[c] = DVec3(xy(rng), xy(rng), z(rng));
+    soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
+  }
+  return soup;
+}
+
 /// The per-work-item cull (gears/item_cull.hpp) never drops a triangle that blocks one of the
 /// item's samples from some light point: random triangles and sample sets in light space, blocking
 /// decided by a double-precision segment–triangle test against a 24×24 grid of light points.
@@ -132,13 +145,8 @@ TEST(Gears, ItemCullIsConservative) {
   light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
   int blocking = 0, culled = 0;
   for (int trial = 0; trial < 3000; ++trial) {
-    gears::TriangleSoup soup;
-    soup.mesh = {0}, soup.prim = {0}, soup.opaque = {1};
     DVec3 v[3];
-    for (int c = 0; c < 3; ++c) {
-      v[c] = DVec3(xy(rng), xy(rng), tz(rng));
-      soup.x[c] = {float(v[c].x)}, soup.y[c] = {float(v[c].y)}, soup.z[c] = {float(v[c].z)};
-    }
+    const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
     const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
     const gears::PackedTriangle tri = gears::pack_triangles(soup, +1, zmin, light)[0];
     // A small cluster of samples, like a work item's.
@@ -173,6 +181,61 @@ TEST(Gears, ItemCullIsConservative) {
   EXPECT_GT(culled, 1000);
 }
 
+/// The per-pixel cull (CandidateBatch::keep: the slabs and depth cut for one sample, and the
+/// separating-plane test) never drops a triangle that blocks the sample from some light point:
+/// random triangles and samples in light space, a third of the samples within 10⁻³ of the
+/// triangle's plane (the neighbours of a sample on a closed mesh), blocking decided in double
+/// precision against 24×24 light points.
+TEST(Gears, PixelCullIsConservative) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f),
+      unit(0.0f, 1.0f);
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  gears::GridCamera cam;  // only its light corners matter for a flat light
+  int blocking = 0, culled = 0, near_plane = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    DVec3 v[3];
+    const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
+    const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
+    const auto packed = gears::pack_triangles(soup, +1, zmin, light);
+    const auto planes = gears::triangle_planes(soup, gears::plane_test_corners(light, cam));
+    DVec3 o(xy(rng), xy(rng), sz(rng));
+    if (trial % 3 == 0) {
+      // Near the triangle's plane, on either side, above or beside the triangle.
+      const DVec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
+      const double a = unit(rng) * 1.6 - 0.3, b = unit(rng) * (1.3 - a);
+      o = v[0] + a * (v[1] - v[0]) + b * (v[2] - v[0]) + n * (unit(rng) * 2e-3 - 1e-3);
+      if (!(o.z > 0.01)) continue;
+      ++near_plane;
+    }
+    const Vec3 p(o);
+    const float pz = p.z;
+    const gears::CellPair pair{0, 0};
+    gears::CandidateBatch item, pixel;
+    const gears::ItemBounds bounds = gears::item_bounds(light, &p.x, &p.y, &pz, 1);
+    item.gather(packed.data(), planes.data(), &pair, &pair + 1, bounds);
+    pixel.keep(item, 0, item.count, bounds, p);
+    const bool kept = pixel.count == 1;
+    culled += !kept;
+    bool blocks = false;
+    for (int s = 0; s < 24 * 24 && !blocks; ++s) {
+      const DVec3 x((s % 24 + 0.5) / 24, (s / 24 + 0.5) / 24, 0.0);
+      blocks = test::segment_crosses_triangle(DVec3(p), x - DVec3(p), v[0], v[1], v[2]);
+    }
+    blocking += blocks;
+    if (blocks) {
+      EXPECT_TRUE(kept) << "trial " << trial;
+    }
+  }
+  std::printf("pixel cull: %d samples near the plane, %d of 4000 triangles block, %d culled\n",
+              near_plane, blocking, culled);
+  EXPECT_GT(blocking, 100);
+  EXPECT_GT(culled, 2000);
+  EXPECT_GT(near_plane, 1000);
+}
+
+/// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
 TEST(Gears, PointLightGivesTheHardShadow) {
   Scene scene = make_builtin_scene("spheres");
   scene.lights[0].shape = LightShape::point;
@@ -183,15 +246,20 @@ TEST(Gears, PointLightGivesTheHardShadow) {
   EXPECT_EQ(a.unexplained, 0u);
 }
 
-TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
+/// The spheres scene with every sphere semi-opaque (transmittance 0.5), or opaque.
+Scene glass_spheres(bool semi_opaque) {
   Scene scene = make_builtin_scene("spheres");
   Material glass;
   glass.name = "glass";
-  glass.transmittance = 0.5f;
+  glass.transmittance = semi_opaque ? 0.5f : 0.0f;
   scene.materials.push_back(glass);
   for (Mesh& m : scene.meshes)
     if (m.name != "ground") m.material = static_cast<int>(scene.materials.size() - 1);
-  const auto t = make_test_frame(std::move(scene), 48, 48, grid(8));
+  return scene;
+}
+
+TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
+  const auto t = make_test_frame(glass_spheres(true), 48, 48, grid(8));
   const MethodResult rt = t.run("raytrace");
   const MethodResult ge = t.run("gears");
   double diff = 0.0, max_diff = 0.0;
@@ -206,6 +274,20 @@ TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
   EXPECT_LE(diff / rt.per_light[0].lit.size(), 1e-3);
 }
 
+/// Semi-opaque occluders need per-sample transmittances only while their pixel is rasterized:
+/// the memory they add is one n-float buffer per thread, not frame × samples (here that would be
+/// ≈ 3.5 MB: ~3 500 active pixels × 256 samples × 4 bytes).
+TEST(Gears, SemiOpaqueMemoryIsPerWorkItem) {
+  const auto glass = make_test_frame(glass_spheres(true), 64, 64, grid(16));
+  const auto opaque = make_test_frame(glass_spheres(false), 64, 64, grid(16));
+  const double with = glass.run("gears").per_light[0].counters.at("memory_bytes");
+  const double without = opaque.run("gears").per_light[0].counters.at("memory_bytes");
+  const double per_thread = 256.0 * sizeof(float);
+  std::printf("memory: semi-opaque %.0f bytes, opaque %.0f bytes\n", with, without);
+  EXPECT_GE(with - without, per_thread);
+  EXPECT_LE(with - without, 64 * per_thread);  // at most 64 threads' buffers
+}
+
 TEST(Gears, DiskAndSphereLightsMatchRaytrace) {
   for (LightShape shape : {LightShape::disk, LightShape::sphere}) {
     Scene scene = make_builtin_scene("spheres");
@@ -215,6 +297,55 @@ TEST(Gears, DiskAndSphereLightsMatchRaytrace) {
     l.normal = Vec3(0, -1, 0);
     expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid(8))));
   }
+}
+
+/// A sphere light in the middle of a room: samples on the walls beside the light lie within its
+/// depth slab, where a blocker can be deeper than the sample (the light reaches behind it). Every
+/// mask must still equal raytrace's; one semi-opaque sphere checks the transmittance path too.
+Scene sphere_light_in_a_room() {
+  Scene s;
+  s.name = "sphere_light_in_a_room";
+  Material grey, glass;
+  grey.name = "grey";
+  glass.name = "glass";
+  glass.transmittance = 0.4f;
+  s.materials = {grey, glass};
+  auto add = [&](Mesh m, const char* name, int material) {
+    m.name = name;
+    m.material = material;
+    s.meshes.push_back(std::move(m));
+  };
+  add(make_quad(Vec3(0, 0, 0), Vec3(0, 0, 8), Vec3(8, 0, 0)), "ground", 0);
+  add(make_quad(Vec3(0, 3, 0), Vec3(8, 0, 0), Vec3(0, 0, 8)), "ceiling", 0);
+  add(make_quad(Vec3(0, 1.5f, -2), Vec3(8, 0, 0), Vec3(0, 3, 0)), "wall", 0);
+  add(make_sphere(Vec3(-0.7f, 0.6f, 0), 0.3f, 16, 32), "s1", 0);
+  add(make_sphere(Vec3(0.6f, 2.2f, 0.2f), 0.25f, 16, 32), "s2", 1);
+  add(make_sphere(Vec3(0.2f, 1.4f, -0.9f), 0.25f, 16, 32), "s3", 0);
+  add(make_box(Vec3(-0.5f, 1.5f, 0.5f), Vec3(0.1f, 0.4f, 0.1f)), "b", 0);
+  Light light;
+  light.shape = LightShape::sphere;
+  light.center = Vec3(0, 1.5f, 0);
+  light.radius = 0.3f;
+  light.radiance = Vec3(5.0f);
+  s.lights.push_back(light);
+  s.camera.position = Vec3(0, 1.2f, 5);
+  s.camera.target = Vec3(0, 1.2f, 0);
+  s.camera.vfov_deg = 70.0f;
+  return s;
+}
+
+TEST(Gears, SphereLightAmongOccludersMatchesRaytrace) {
+  const auto t = make_test_frame(sphere_light_in_a_room(), 64, 64, grid(8));
+  const MaskAgreement a = compare_masks(t);
+  expect_equal_masks(a);
+  EXPECT_EQ(a.differ, 0u);
+  // Per-pixel V (opaque bits and the glass sphere's transmittance) as raytrace's.
+  const MethodResult rt = t.run("raytrace"), ge = t.run("gears");
+  double max_dv = 0.0;
+  for (size_t i = 0; i < rt.per_light[0].lit.size(); ++i)
+    max_dv = std::max(max_dv, double(std::abs(rt.per_light[0].lit[i] - ge.per_light[0].lit[i])));
+  std::printf("sphere light in a room: max |dV| %.2e\n", max_dv);
+  EXPECT_LE(max_dv, 1e-5);
 }
 
 /// Irregular samples: the edge-plane variant tests every sample (row spans need the grid).

@@ -13,6 +13,8 @@ namespace penumbra::gears {
 
 namespace {
 
+using DVec4 = glm::dvec4;
+
 /// Inclusive cell range of a footprint; empty when x0 > x1.
 struct CellRect {
   int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
@@ -81,6 +83,85 @@ CellRect footprint(const GridCamera& cam, const DVec3 tri[3], double z_t) {
   return r;
 }
 
+/// A sphere light seen by the cells, for triangles that reach its depth slab (their extrusion is
+/// unbounded). Such a triangle T can block a sample P in the ball (q, ρ) from a light point X in
+/// the light's ball (c, r) only if some H = (1 − s)·P + s·X lies in T; H is within
+/// (1 − s)·ρ + s·r ≤ max(ρ, r) of the segment q–c, so T's bounding sphere (m, σ) must reach the
+/// capsule of radius max(ρ, r) around that segment. Distances in world units: light-space x and
+/// y are in units of the light's diameter, z in world units.
+struct SlabCull {
+  bool on = false;
+  double scale_xy = 1.0;  // world units per light-space x or y unit
+  DVec3 centre{0.0};      // the light's centre (scaled)
+  double radius = 0.0;
+  std::vector<DVec4> cells;  // per cell: the samples' bounding sphere (scaled centre, radius)
+  // Blocks of cells with samples, each with a sphere around its cells' spheres: one test rejects
+  // a block (the capsule of a bigger sample ball contains the smaller ones' hulls).
+  struct Block {
+    DVec4 sphere;
+    std::vector<int> cells;
+  };
+  std::vector<Block> blocks;
+
+  DVec3 scaled(const DVec3& q) const { return DVec3(q.x * scale_xy, q.y * scale_xy, q.z); }
+  bool may_block(const DVec4& sphere_tri, const DVec4& samples) const {
+    const DVec4& cs = samples;
+    const DVec3 q(cs), m(sphere_tri), d = centre - q;
+    const double dd = glm::dot(d, d);
+    const double s = dd > 0.0 ? std::clamp(glm::dot(m - q, d) / dd, 0.0, 1.0) : 0.0;
+    const double reach = std::max(cs.w, radius) + sphere_tri.w;
+    // Inputs are floats: 10⁻⁴ relative slack covers their rounding many times over.
+    return glm::length(m - (q + s * d)) <= reach * (1.0 + 1e-4) + 1e-4 * glm::length(q);
+  }
+  /// Calls f(cell) for each cell with samples that triangle sphere `tri` may shadow.
+  template <class F>
+  void for_each_cell(const DVec4& tri, F&& f) const {
+    for (const Block& b : blocks)
+      if (may_block(tri, b.sphere))
+        for (int c : b.cells)
+          if (may_block(tri, cells[c])) f(c);
+  }
+};
+
+SlabCull slab_cull(const GridCamera& cam, const PixelCells& cells) {
+  SlabCull sc;
+  if (cam.light_corners.size() != 8 || !(cam.light_max_z > 0.0f)) return sc;  // not a sphere
+  sc.on = true;
+  sc.radius = cam.light_max_z;
+  sc.scale_xy = 2.0 * cam.light_max_z;
+  sc.centre = sc.scaled(DVec3(0.5, 0.5, 0.0));
+  sc.cells.resize(cells.max_z.size());
+  for (size_t c = 0; c < sc.cells.size(); ++c) {
+    if (!(cells.max_z[c] > -kInfinity)) {
+      sc.cells[c] = DVec4(0.0, 0.0, 0.0, -1.0);
+      continue;
+    }
+    const DVec3 lo = sc.scaled(DVec3(cells.box_lo[c])), hi = sc.scaled(DVec3(cells.box_hi[c]));
+    sc.cells[c] = DVec4(0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
+  }
+  constexpr int kBlock = 16;  // cells per block side
+  for (int by = 0; by < cam.res_y; by += kBlock)
+    for (int bx = 0; bx < cam.res_x; bx += kBlock) {
+      SlabCull::Block b;
+      DVec3 lo(1e300), hi(-1e300);
+      for (int y = by; y < std::min(by + kBlock, cam.res_y); ++y)
+        for (int x = bx; x < std::min(bx + kBlock, cam.res_x); ++x) {
+          const DVec4& cs = sc.cells[y * cam.res_x + x];
+          if (!(cs.w >= 0.0)) continue;
+          b.cells.push_back(y * cam.res_x + x);
+          lo = glm::min(lo, DVec3(cs) - cs.w), hi = glm::max(hi, DVec3(cs) + cs.w);
+        }
+      if (b.cells.empty()) continue;
+      const DVec3 mid = 0.5 * (lo + hi);
+      double radius = 0.0;
+      for (int c : b.cells)
+        radius = std::max(radius, glm::length(DVec3(sc.cells[c]) - mid) + sc.cells[c].w);
+      b.sphere = DVec4(mid, radius * (1.0 + 1e-9));
+      sc.blocks.push_back(std::move(b));
+    }
+  return sc;
+}
+
 }  // namespace
 
 PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& pixels,
@@ -97,10 +178,16 @@ PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& 
   cell_ranges(pc.sorted, cells, pc.begin, pc.end);
   pc.max_z.assign(cells, -kInfinity);
   pc.sample_z.resize(n);
+  pc.box_lo.assign(cells, Vec3(kInfinity));
+  pc.box_hi.assign(cells, Vec3(-kInfinity));
   parallel_chunks(cells, 256, [&](size_t b, size_t e) {
     for (size_t c = b; c < e; ++c)
-      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i)
-        pc.max_z[c] = std::max(pc.max_z[c], points[pc.sorted[i].item].z);
+      for (uint32_t i = pc.begin[c]; i < pc.end[c]; ++i) {
+        const Vec3& q = points[pc.sorted[i].item];
+        pc.max_z[c] = std::max(pc.max_z[c], q.z);
+        pc.box_lo[c] = glm::min(pc.box_lo[c], q);
+        pc.box_hi[c] = glm::max(pc.box_hi[c], q);
+      }
   });
   // Within a cell, nearest samples first: runs of consecutive samples then span few depths, so a
   // work item can drop the candidates that lie entirely deeper than its deepest sample.
@@ -138,10 +225,18 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   const double straddle_z = cam.light_max_z + 1e-6 * std::max(1.0, std::abs(far_z));
   const CellRect whole{0, 0, cam.res_x - 1, cam.res_y - 1};
 
+  // A blocker can be as deep as the deepest light point (a sphere reaches behind samples within
+  // its depth slab): the depth cut compares against max(deepest sample, light_max_z).
   auto cell_ok = [&](int c, float zmin) {
     const float mz = cells.max_z[c];
-    return options.cell_depth_cull ? mz >= zmin : mz > -kInfinity;
+    if (!(mz > -kInfinity)) return false;  // no samples
+    return !options.cell_depth_cull || std::max(mz, cam.light_max_z) >= zmin;
   };
+  // Sphere lights: triangles in the light's depth slab, tested per cell (SlabCull).
+  const SlabCull slab = slab_cull(cam, cells);
+  std::vector<DVec4> slab_sphere(slab.on ? n : 0, DVec4(0.0, 0.0, 0.0, -1.0));
+  auto slab_triangle = [&](size_t t) { return slab.on && slab_sphere[t].w >= 0.0; };
+  std::vector<std::vector<uint32_t>> slab_cells(slab.on ? n : 0);  // found by pass 1, for pass 2
 
   // Pass 1 (count): footprint, retraction, cellsN per triangle.
   auto t0 = std::chrono::steady_clock::now();
@@ -159,9 +254,17 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
       } else if (zmin > far_z) {
         ++l_beyond;
       } else if (zmin <= straddle_z) {
-        // Reaches the light's depth: its extrusion is unbounded; conservatively the whole grid.
+        // Reaches the light's depth: its extrusion is unbounded; the whole grid, for a sphere
+        // light only the cells whose capsule it reaches (SlabCull).
         ++l_straddle;
         r = whole;
+        if (slab.on) {
+          DVec3 m(0.0);
+          for (const DVec3& v : tri) m += slab.scaled(v) / 3.0;
+          double radius = 0.0;
+          for (const DVec3& v : tri) radius = std::max(radius, glm::length(slab.scaled(v) - m));
+          slab_sphere[t] = DVec4(m, radius * (1.0 + 1e-6));
+        }
       } else {
         r = footprint(cam, tri, far_z);
         if (r.empty()) ++l_beyond;
@@ -180,7 +283,13 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
         }
       }
       uint64_t count = 0;
-      if (!r.empty()) {
+      if (slab_triangle(t)) {
+        slab.for_each_cell(slab_sphere[t], [&](int c) {
+          if (cell_ok(c, zmins[t])) slab_cells[t].push_back(static_cast<uint32_t>(c));
+        });
+        count = slab_cells[t].size();
+        l_aabb += count;
+      } else if (!r.empty()) {
         l_aabb += r.area();
         for (int y = r.y0; y <= r.y1; ++y)
           for (int x = r.x0; x <= r.x1; ++x) count += cell_ok(y * cam.res_x + x, zmins[t]);
@@ -197,10 +306,17 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   });
   stats.count_ms += elapsed_ms(t0);
 
-  // Prefix sum of cellsN [seed 004 §4.2].
+  // Prefix sum of cellsN [seed 004 §4.2], in order of nearest depth (ties: triangle id): the
+  // stable sort by cell keeps that order, so each cell's list is sorted by depth and a work item
+  // reads only the prefix its deepest sample can be blocked by (the depth cut).
   t0 = std::chrono::steady_clock::now();
+  std::vector<uint32_t> order(n);
+  for (size_t t = 0; t < n; ++t) order[t] = static_cast<uint32_t>(t);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return zmins[a] < zmins[b] || (zmins[a] == zmins[b] && a < b);
+  });
   std::vector<uint64_t> offsets(n + 1, 0);
-  for (size_t t = 0; t < n; ++t) offsets[t + 1] = offsets[t] + counts[t];
+  for (size_t i = 0; i < n; ++i) offsets[i + 1] = offsets[i] + counts[order[i]];
   stats.prefix_ms += elapsed_ms(t0);
 
   // Pass 2: write the (triID, cellID) pairs.
@@ -209,10 +325,15 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   out.zmin = zmins;
   out.pairs.resize(offsets[n]);
   parallel_chunks(n, 1024, [&](size_t b, size_t e) {
-    for (size_t t = b; t < e; ++t) {
+    for (size_t i = b; i < e; ++i) {
+      const uint32_t t = order[i];
       const CellRect& r = rects[t];
+      uint64_t o = offsets[i];
+      if (slab_triangle(t)) {
+        for (const uint32_t c : slab_cells[t]) out.pairs[o++] = {c, t};
+        continue;
+      }
       if (r.empty()) continue;
-      uint64_t o = offsets[t];
       for (int y = r.y0; y <= r.y1; ++y)
         for (int x = r.x0; x <= r.x1; ++x) {
           const int c = y * cam.res_x + x;

@@ -28,6 +28,8 @@ struct PixelCells {
   std::vector<uint32_t> begin, end;  // per cell, into `sorted`
   std::vector<float> max_z;          // per cell, −inf when empty
   std::vector<float> sample_z;       // per entry of `sorted`: the sample's depth
+  std::vector<Vec3> box_lo,
+      box_hi;  // per cell, the samples' bounding box (this pass's coordinates)
 };
 
 struct AssignOptions {
@@ -41,11 +43,12 @@ struct AssignStats {
   uint64_t aabb_cells = 0;                // cellsN of the paper: area of the final AABBs
   uint64_t culled_behind_light = 0;       // entirely behind the light plane
   uint64_t culled_beyond_samples = 0;     // entirely deeper than every sample (or off the grid)
-  uint64_t straddling_light = 0;          // reach the light's depth: assigned to the whole grid
+  uint64_t straddling_light = 0;          // reach the light's depth: not extruded (see assign)
   double count_ms = 0, prefix_ms = 0, write_ms = 0, sort_ms = 0;
 };
 
-/// Candidate triangles per cell: cell c's triangles are tris[begin[c] .. end[c]), ascending ids.
+/// Candidate triangles per cell: cell c's triangles are pairs[begin[c] .. end[c]), by ascending
+/// nearest depth zmin (ties: ascending id).
 struct CellTriangles {
   std::vector<CellPair> pairs;  // sorted by cell
   std::vector<uint32_t> begin, end;

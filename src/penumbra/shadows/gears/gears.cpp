@@ -38,14 +38,16 @@ struct Options {
   AssignOptions assign;
   float eye_distance = 1.0f;
   int chunk = 32;
+  bool pixel_cull = true;
 };
 
 /// Per-thread buffers of the rasterization pass.
 struct Scratch {
-  CandidateBatch batch;
+  CandidateBatch batch, pixel_batch;  // a work item's candidates, one pixel's
   LineBatch lines;
   std::vector<Vec2> light_uv;
-  std::vector<float> su, sv, vis, trans;
+  std::vector<float> su, sv, vis, trans;  // trans: the pixel's per-sample transmittance
+  std::vector<Vec2> shade_uv;
   std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
   std::vector<uint64_t> cover, blocked;
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
@@ -167,17 +169,40 @@ class Gears final : public ShadowMethod {
     const bool simple_weights = !emission && !per_pixel_samples && !point;
 
     AssignStats astats;
-    std::atomic<uint64_t> from_grid{0}, tested{0}, in_volume{0}, necessary{0}, early_full{0};
+    std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, tested{0}, in_volume{0},
+        necessary{0}, early_full{0};
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
-    // Per-pixel transmittance (semi-opaque occluders only).
-    std::vector<float> trans;
-    if (any_translucent) trans.assign(static_cast<size_t>(active.size()) * n, 1.0f);
-    std::vector<uint32_t> active_slot(g.pixel_count(), 0);
-    for (size_t a = 0; a < active.size(); ++a) active_slot[active[a]] = static_cast<uint32_t>(a);
 
     tbb::enumerable_thread_specific<Scratch> scratch;
+
+    // Step 5 for one pixel: V from its mask (and transmittances `tr`, semi-opaque occluders only).
+    auto shade = [&](uint32_t pix, const float* tr, Scratch& sc) {
+      const uint64_t* m = masks.pixel(pix);
+      if (simple_weights && !tr) {
+        int blocked = 0;
+        for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
+        SampleWeights w;
+        w.visible = Vec3(static_cast<float>(emit_count - blocked));
+        w.total = Vec3(static_cast<float>(emit_count));
+        vis.lit[pix] = w.visible_fraction();
+        return;
+      }
+      const LightFrame frame = light_frame(light, g.shadow_origin(pix));
+      sc.shade_uv.resize(n);
+      sc.vis.resize(n);
+      ctx.samples.pixel_samples(static_cast<int>(pix % g.width), static_cast<int>(pix / g.width),
+                                sc.shade_uv);
+      for (int s = 0; s < n; ++s) {
+        const bool blk = (m[s >> 6] >> (s & 63)) & 1u;
+        sc.vis[s] = blk ? 0.0f : (tr ? tr[s] : 1.0f);
+      }
+      const SampleWeights w =
+          accumulate_sample_weights(frame, emission, light.radiance, sc.shade_uv, sc.vis);
+      vis.lit[pix] = w.visible_fraction();
+      if (emission) vis.lit_rgb->operator[](pix) = w.visible_fraction_rgb();
+    };
 
     // One grid pass per side of the light plane that has samples.
     for (int side : {+1, -1}) {
@@ -202,7 +227,10 @@ class Gears final : public ShadowMethod {
       FlatLight flat = flat_light(cam);
       if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
       const std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      const std::vector<TrianglePlane> planes =
+          triangle_planes(soup, plane_test_corners(flat, cam));
       peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
+                                            planes.size() * sizeof(TrianglePlane) +
                                             cells.sorted.capacity() * sizeof(CellPair) * 2);
 
       // Work items: (cell, run of ≤ chunk pixels) — cells hold from one to thousands of samples.
@@ -232,7 +260,8 @@ class Gears final : public ShadowMethod {
             sc.sv.resize(n);
             sc.cover.resize(words + 1);
             sc.blocked.resize(words + 1);
-            uint64_t l_grid = 0, l_tested = 0, l_volume = 0, l_necessary = 0, l_full = 0;
+            uint64_t l_grid = 0, l_read = 0, l_item = 0, l_tested = 0, l_volume = 0,
+                     l_necessary = 0, l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
               // Samples are sorted by depth within the cell, so an item spans few depths.
@@ -244,14 +273,17 @@ class Gears final : public ShadowMethod {
               }
               const ItemBounds bounds =
                   item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
-              sc.batch.gather(packed.data(), table.pairs.data() + table.begin[item.cell],
+              sc.batch.gather(packed.data(), planes.data(),
+                              table.pairs.data() + table.begin[item.cell],
                               table.pairs.data() + table.end[item.cell], bounds);
+              l_read += sc.batch.read;
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
               for (uint32_t e = item.begin; e < item.end; ++e) {
                 const uint32_t a = cells.sorted[e].item;
                 const uint32_t pix = active[a];
                 const Vec3 p = p_light[a];
+                l_item += sc.batch.count;
                 // This pixel's light: constant frames are the light space's own unit square.
                 PixelLight pl;
                 pl.p = p;
@@ -304,7 +336,12 @@ class Gears final : public ShadowMethod {
                 const int nw = (ns + 63) / 64;
                 std::fill(sc.blocked.begin(), sc.blocked.end(), 0);
                 std::fill(std::begin(sc.rows), std::end(sc.rows), 0u);
-                float* tr = any_translucent ? &trans[static_cast<size_t>(a) * n] : nullptr;
+                // Per-sample transmittance (semi-opaque occluders only), shaded with this pixel.
+                float* tr = nullptr;
+                if (any_translucent) {
+                  sc.trans.assign(n, 1.0f);
+                  tr = sc.trans.data();
+                }
                 const uint32_t full_row = k >= 32 ? ~0u : (1u << k) - 1u;
 
                 auto fully_blocked = [&]() {
@@ -325,95 +362,114 @@ class Gears final : public ShadowMethod {
                   return true;
                 };
 
-                bool done = false;
-                for (int first = 0; first < sc.batch.count && !done; first += kLanes) {
-                  uint32_t surv =
-                      setup_batch(sc.batch, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
-                  l_tested += std::min(kLanes, sc.batch.count - first);
-                  l_volume += std::popcount(surv);
-                  bool changed = false;
-                  if (use_rows) {
-                    // Opaque triangles straight into the pixel's rows; the others (alpha,
-                    // semi-opaque) one by one below.
-                    const uint32_t opaque = surv & sc.batch.opaque_lanes(first);
-                    const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
-                    l_necessary += std::popcount(hit);
-                    changed |= hit != 0;
-                    surv &= ~opaque;
-                  }
-                  while (surv) {
-                    const int lane = std::countr_zero(surv);
-                    surv &= surv - 1;
-                    const uint32_t tri = sc.batch.tri[first + lane];
-                    bool covered;
+                // Rasterizes a batch of candidates into the pixel's bits; true once every
+                // emitting sample is blocked (opaque).
+                auto rasterize = [&](const CandidateBatch& cb) {
+                  for (int first = 0; first < cb.count; first += kLanes) {
+                    uint32_t surv = setup_batch(cb, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
+                    l_tested += std::min(kLanes, cb.count - first);
+                    l_volume += std::popcount(surv);
+                    bool changed = false;
                     if (use_rows) {
-                      covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
-                      if (covered && (soup.opaque[tri] == 0)) {
-                        std::fill(sc.cover.begin(), sc.cover.end(), 0);
-                        rows_to_words(sc.tri_rows, k, sc.cover.data());
-                      }
-                    } else if (use_lut) {
-                      const uint64_t* m0 = lut->lookup(sc.lines.a[0][lane], sc.lines.b[0][lane],
-                                                       sc.lines.c[0][lane]);
-                      const uint64_t* m1 = lut->lookup(sc.lines.a[1][lane], sc.lines.b[1][lane],
-                                                       sc.lines.c[1][lane]);
-                      const uint64_t* m2 = lut->lookup(sc.lines.a[2][lane], sc.lines.b[2][lane],
-                                                       sc.lines.c[2][lane]);
-                      const uint64_t* m3 = lut->lookup(sc.lines.a[3][lane], sc.lines.b[3][lane],
-                                                       sc.lines.c[3][lane]);
-                      uint64_t any = 0;
-                      for (int i = 0; i < words; ++i)
-                        any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
-                      covered = any != 0;
-                    } else {
-                      covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
+                      // Opaque triangles straight into the pixel's rows; the others (alpha,
+                      // semi-opaque) one by one below.
+                      const uint32_t opaque = surv & cb.opaque_lanes(first);
+                      const uint32_t hit = raster_rows_or(sc.lines, opaque, k, sc.rows);
+                      l_necessary += std::popcount(hit);
+                      changed |= hit != 0;
+                      surv &= ~opaque;
                     }
-                    if (!covered) continue;
-                    ++l_necessary;
-                    if (soup.opaque[tri]) {
+                    while (surv) {
+                      const int lane = std::countr_zero(surv);
+                      surv &= surv - 1;
+                      const uint32_t tri = cb.tri[first + lane];
+                      bool covered;
                       if (use_rows) {
-                        // Whole 16-row registers (raster_rows zero-fills up to them).
-                        for (int jb = 0; jb < k; jb += kLanes)
-                          for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
+                        covered = raster_rows(sc.lines, lane, k, sc.tri_rows) != 0;
+                        if (covered && (soup.opaque[tri] == 0)) {
+                          std::fill(sc.cover.begin(), sc.cover.end(), 0);
+                          rows_to_words(sc.tri_rows, k, sc.cover.data());
+                        }
+                      } else if (use_lut) {
+                        const uint64_t* m0 = lut->lookup(sc.lines.a[0][lane], sc.lines.b[0][lane],
+                                                         sc.lines.c[0][lane]);
+                        const uint64_t* m1 = lut->lookup(sc.lines.a[1][lane], sc.lines.b[1][lane],
+                                                         sc.lines.c[1][lane]);
+                        const uint64_t* m2 = lut->lookup(sc.lines.a[2][lane], sc.lines.b[2][lane],
+                                                         sc.lines.c[2][lane]);
+                        const uint64_t* m3 = lut->lookup(sc.lines.a[3][lane], sc.lines.b[3][lane],
+                                                         sc.lines.c[3][lane]);
+                        uint64_t any = 0;
+                        for (int i = 0; i < words; ++i)
+                          any |= sc.cover[i] = m0[i] & m1[i] & m2[i] & m3[i];
+                        covered = any != 0;
                       } else {
-                        for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
+                        covered = raster_samples(sc.lines, lane, su, sv, ns, sc.cover.data());
                       }
-                      changed = true;
-                      continue;
-                    }
-                    // Alpha-textured or semi-opaque: the texture decides per covered sample, at the
-                    // barycentrics of that sample's ray (as the Embree occlusion filter does).
-                    const Mesh& mesh = ctx.scene.meshes[soup.mesh[tri]];
-                    const Material& mat = ctx.scene.material_of(mesh);
-                    const Texture* alpha =
-                        mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
-                    for (int i = 0; i < nw; ++i) {
-                      uint64_t bits = sc.cover[i];
-                      while (bits) {
-                        const int s = 64 * i + std::countr_zero(bits);
-                        bits &= bits - 1;
-                        if (alpha) {
-                          const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
-                          if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
-                              kAlphaCutoff)
-                            continue;
-                        }
-                        if (mat.transmittance > 0.0f) {
-                          tr[s] *= mat.transmittance;
-                        } else if (use_rows) {
-                          sc.rows[s / k] |= 1u << (s % k);
-                          changed = true;
+                      if (!covered) continue;
+                      ++l_necessary;
+                      if (soup.opaque[tri]) {
+                        if (use_rows) {
+                          // Whole 16-row registers (raster_rows zero-fills up to them).
+                          for (int jb = 0; jb < k; jb += kLanes)
+                            for (int j = jb; j < jb + kLanes; ++j) sc.rows[j] |= sc.tri_rows[j];
                         } else {
-                          sc.blocked[s >> 6] |= uint64_t{1} << (s & 63);
-                          changed = true;
+                          for (int i = 0; i < nw; ++i) sc.blocked[i] |= sc.cover[i];
+                        }
+                        changed = true;
+                        continue;
+                      }
+                      // Alpha-textured or semi-opaque: the texture decides per covered sample, at
+                      // the barycentrics of that sample's ray (as the Embree occlusion filter
+                      // does).
+                      const Mesh& mesh = ctx.scene.meshes[soup.mesh[tri]];
+                      const Material& mat = ctx.scene.material_of(mesh);
+                      const Texture* alpha =
+                          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
+                      for (int i = 0; i < nw; ++i) {
+                        uint64_t bits = sc.cover[i];
+                        while (bits) {
+                          const int s = 64 * i + std::countr_zero(bits);
+                          bits &= bits - 1;
+                          if (alpha) {
+                            const Vec2 bc = hit_barycentrics(sc.lines, lane, su[s], sv[s]);
+                            if (alpha->sample_scalar(mesh.uv_at(soup.prim[tri], bc.x, bc.y)) <
+                                kAlphaCutoff)
+                              continue;
+                          }
+                          if (mat.transmittance > 0.0f) {
+                            tr[s] *= mat.transmittance;
+                          } else if (use_rows) {
+                            sc.rows[s / k] |= 1u << (s % k);
+                            changed = true;
+                          } else {
+                            sc.blocked[s >> 6] |= uint64_t{1} << (s & 63);
+                            changed = true;
+                          }
                         }
                       }
                     }
+                    if (changed && fully_blocked()) {
+                      ++l_full;
+                      return true;
+                    }
                   }
-                  if (changed && fully_blocked()) {
-                    done = true;
-                    ++l_full;
+                  return false;
+                };
+                bool done = false;
+                if (opt_.pixel_cull) {
+                  // The item's candidates culled with the pixel's own bounds (an item spans a
+                  // cell's worth of directions, a pixel one) and the separating plane, in chunks
+                  // so that a full mask stops the cull as well.
+                  const float pz = cells.sample_z[e];
+                  const ItemBounds own = item_bounds(flat, &p.x, &p.y, &pz, 1);
+                  constexpr int kChunk = 8 * kLanes;
+                  for (int b = 0; b < sc.batch.count && !done; b += kChunk) {
+                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p);
+                    done = rasterize(sc.pixel_batch);
                   }
+                } else {
+                  done = rasterize(sc.batch);
                 }
                 uint64_t* out = masks.pixel(pix);
                 if (use_rows) {
@@ -429,9 +485,12 @@ class Gears final : public ShadowMethod {
                 // Only emitting samples carry bits (SampleMasks convention).
                 if (!point)
                   for (int i = 0; i < words; ++i) out[i] &= em[i];
+                if (tr) shade(pix, tr, sc);
               }
             }
             from_grid += l_grid;
+            item_kept += l_item;
+            gathered += l_read;
             tested += l_tested;
             in_volume += l_volume;
             necessary += l_necessary;
@@ -445,38 +504,15 @@ class Gears final : public ShadowMethod {
     vis.times.add("sort_pairs", astats.sort_ms);
     vis.times.add("bitmask_rasterization", raster_ms);
 
-    // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays.
+    // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays. Scenes with
+    // semi-opaque occluders shade inside the work item (above), while the pixel's transmittances
+    // are in the thread's scratch: memory per work item, not frame × samples.
     t0 = std::chrono::steady_clock::now();
-    parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
-      std::vector<Vec2> uvs(n);
-      std::vector<float> sample_vis(n);
-      for (size_t a = b; a < e; ++a) {
-        const uint32_t pix = active[a];
-        const uint64_t* m = masks.pixel(pix);
-        const float* tr = any_translucent ? &trans[a * n] : nullptr;
-        bool plain = simple_weights && !tr;
-        if (plain) {
-          int blocked = 0;
-          for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
-          SampleWeights w;
-          w.visible = Vec3(static_cast<float>(emit_count - blocked));
-          w.total = Vec3(static_cast<float>(emit_count));
-          vis.lit[pix] = w.visible_fraction();
-          continue;
-        }
-        const LightFrame frame = light_frame(light, g.shadow_origin(pix));
-        ctx.samples.pixel_samples(static_cast<int>(pix % g.width), static_cast<int>(pix / g.width),
-                                  uvs);
-        for (int s = 0; s < n; ++s) {
-          const bool blk = (m[s >> 6] >> (s & 63)) & 1u;
-          sample_vis[s] = blk ? 0.0f : (tr ? tr[s] : 1.0f);
-        }
-        const SampleWeights w =
-            accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
-        vis.lit[pix] = w.visible_fraction();
-        if (emission) vis.lit_rgb->operator[](pix) = w.visible_fraction_rgb();
-      }
-    });
+    if (!any_translucent)
+      parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
+        Scratch& sc = scratch.local();
+        for (size_t a = b; a < e; ++a) shade(active[a], nullptr, sc);
+      });
     vis.times.add("shading", elapsed_ms(t0));
 
     Counters& c = vis.counters;
@@ -497,13 +533,16 @@ class Gears final : public ShadowMethod {
     c["samples_per_cell_avg"] =
         nonempty_cells ? static_cast<double>(sum_samples) / nonempty_cells : 0.0;
     c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
-    c["assignments_total"] = static_cast<double>(tested.load());    // after the per-item cull
+    c["gather_reads"] = static_cast<double>(gathered.load());  // list entries read per work item
+    c["assignments_item"] = static_cast<double>(item_kept.load());  // after the per-item cull
+    c["assignments_total"] =
+        static_cast<double>(tested.load());  // set up: after the per-pixel cull
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());
     c["assignments_necessary"] = static_cast<double>(necessary.load());
     c["pixels_early_full"] = static_cast<double>(early_full.load());
-    c["memory_bytes"] =
-        static_cast<double>(peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
-                            trans.size() * sizeof(float) + (lut ? lut->bytes() : 0));
+    c["memory_bytes"] = static_cast<double>(
+        peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
+        (any_translucent ? scratch.size() * n * sizeof(float) : 0) + (lut ? lut->bytes() : 0));
     c["rasterizer"] = use_rows ? 0.0 : (use_lut ? 1.0 : 2.0);  // 0 row spans, 1 LUT, 2 per sample
     if (ctx.want_masks) vis.masks = std::move(masks);
     return vis;
@@ -571,6 +610,13 @@ void register_gears(MethodRegistry& registry) {
        {},
        1,
        1 << 20},
+      {"pixel_cull",
+       OptionType::boolean,
+       "true",
+       "re-cull each pixel's candidates (slabs, depth, separating plane) before the setup",
+       {},
+       0,
+       1},
   };
   info.create = [](const MethodOptions& o) {
     Options opt;
@@ -581,6 +627,7 @@ void register_gears(MethodRegistry& registry) {
     opt.assign.cell_depth_cull = o.get_bool("cell_depth_cull");
     opt.eye_distance = static_cast<float>(o.get_real("eye_distance"));
     opt.chunk = o.get_int("chunk");
+    opt.pixel_cull = o.get_bool("pixel_cull");
     return std::make_unique<Gears>(opt);
   };
   registry.add(std::move(info));

@@ -24,12 +24,13 @@ float widen_down(float x) {
 
 FlatLight flat_light(const GridCamera& camera) {
   FlatLight f;
+  f.max_z = camera.light_max_z;
   if (camera.light_min_z != 0.0f || camera.light_max_z != 0.0f) return f;  // sphere: not flat
   f.flat = true;
   f.lx0 = f.ly0 = kInfinity;
   f.lx1 = f.ly1 = -kInfinity;
   for (const Vec3& c : camera.light_corners) {
-    if (c.z != 0.0f) return FlatLight{};
+    if (c.z != 0.0f) return FlatLight{.max_z = camera.light_max_z};
     f.lx0 = std::min(f.lx0, c.x), f.lx1 = std::max(f.lx1, c.x);
     f.ly0 = std::min(f.ly0, c.y), f.ly1 = std::max(f.ly1, c.y);
   }
@@ -76,7 +77,7 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
 
 ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
                        int count) {
-  ItemBounds b{-kInfinity, kInfinity, -kInfinity, kInfinity, -kInfinity};
+  ItemBounds b{light.max_z, kInfinity, -kInfinity, kInfinity, -kInfinity};
   bool on_light_plane = false;
   for (int i = 0; i < count; ++i) {
     b.zmax = std::max(b.zmax, z[i]);
@@ -89,6 +90,45 @@ ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, c
   }
   if (!light.flat || on_light_plane) b.ix0 = b.iy0 = -kInfinity, b.ix1 = b.iy1 = kInfinity;
   return b;
+}
+
+std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& camera) {
+  if (!light.flat) return camera.light_corners;
+  return {Vec3(light.lx0, light.ly0, 0.0f), Vec3(light.lx1, light.ly0, 0.0f),
+          Vec3(light.lx0, light.ly1, 0.0f), Vec3(light.lx1, light.ly1, 0.0f)};
+}
+
+std::vector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
+                                           const std::vector<Vec3>& light_corners) {
+  std::vector<TrianglePlane> out(soup.size());
+  float corner_inf = 0.0f;
+  for (const Vec3& c : light_corners)
+    corner_inf = std::max({corner_inf, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
+  parallel_chunks(soup.size(), 4096, [&](size_t b, size_t e) {
+    for (size_t t = b; t < e; ++t) {
+      DVec3 v[3];
+      for (int c = 0; c < 3; ++c) v[c] = DVec3(soup.x[c][t], soup.y[c][t], soup.z[c][t]);
+      const DVec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+      TrianglePlane& p = out[t];
+      p.nx = static_cast<float>(n.x), p.ny = static_cast<float>(n.y),
+      p.nz = static_cast<float>(n.z);
+      // d for the rounded normal, so n·q − d is the signed distance to one plane through A.
+      p.d =
+          static_cast<float>(double(p.nx) * v[0].x + double(p.ny) * v[0].y + double(p.nz) * v[0].z);
+      p.n1 = std::abs(p.nx) + std::abs(p.ny) + std::abs(p.nz);
+      p.pad = 0.0f;
+      double lo = 1e300, hi = -1e300;
+      for (const Vec3& c : light_corners) {
+        const double s = double(p.nx) * c.x + double(p.ny) * c.y + double(p.nz) * c.z - p.d;
+        lo = std::min(lo, s), hi = std::max(hi, s);
+      }
+      const double tol = 2.0 * kPlaneRel * (p.n1 * corner_inf + std::abs(p.d));
+      p.lmin = static_cast<float>(lo - tol);
+      p.lmax = static_cast<float>(hi + tol);
+      if (!(n.x != 0.0 || n.y != 0.0 || n.z != 0.0)) p.lmin = -kInfinity, p.lmax = kInfinity;
+    }
+  });
+  return out;
 }
 
 }  // namespace penumbra::gears

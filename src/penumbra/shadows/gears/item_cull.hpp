@@ -36,7 +36,7 @@ struct alignas(64) PackedTriangle {
 /// The samples of one work item, in the same coordinates: a triangle can block one of them only
 /// if may_block() holds.
 struct ItemBounds {
-  float zmax;      // deepest sample
+  float zmax;      // deepest sample, at least the light's deepest point
   float ix0, ix1;  // min (P.x − lx0)/P.z, max (P.x − lx1)/P.z over the samples
   float iy0, iy1;
 };
@@ -45,6 +45,10 @@ struct ItemBounds {
 struct FlatLight {
   bool flat = false;
   float lx0 = 0, lx1 = 0, ly0 = 0, ly1 = 0;
+  // Deepest light point (0; r for a sphere). A blocker on the segment from sample P to light point
+  // X lies no deeper than max(P.z, X.z): samples within a sphere's depth slab can be blocked by
+  // triangles deeper than themselves, so the depth cut compares against max(P.z, max_z).
+  float max_z = 0;
 };
 FlatLight flat_light(const GridCamera& camera);
 /// Rays only go to the light samples: with shared sample positions (light uv = light-space xy for
@@ -59,6 +63,30 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
 /// Bounds of samples (x[i], y[i], z[i]) (z: this pass's depth).
 ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
                        int count);
+
+/// An occluder's plane, for the per-pixel separating-plane cull: T can block sample P from light
+/// point X only if the segment P–X meets T's plane, so not if P and every light point lie strictly
+/// on one side of it. On closed meshes this drops the surface around a lit sample, which the slabs
+/// keep (seen from P its neighbours span every edge angle). Unmirrored light space.
+struct TrianglePlane {
+  float nx, ny, nz, d;  // side of q: n·q − d
+  float n1;             // |n|₁, scales the rounding tolerance
+  float lmin, lmax;  // min and max of n·X − d over the light's corners, widened by the tolerance
+  float pad;
+};
+
+/// Relative tolerance of the plane tests: float evaluation of n·P − d errs by ~10⁻⁷ of
+/// |n|₁·|P|∞ + |d|, Embree's and the rasterizer's own segment tests by the same order; a sample
+/// is only called strictly on one side beyond 10⁻⁵ of that.
+inline constexpr float kPlaneRel = 1e-5f;
+
+/// Planes of the soup's triangles against `light_corners` (unmirrored light space; for the light
+/// samples' box of a flat light, its four corners at z = 0).
+std::vector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
+                                           const std::vector<Vec3>& light_corners);
+/// The corners the plane test bounds the light points by: the flat light's (sample) box at z = 0,
+/// or the camera's light corners (a sphere's cube, a point).
+std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& camera);
 
 inline bool may_block(const PackedTriangle& t, const ItemBounds& b) {
   return (t.zmin <= b.zmax) & (b.ix0 <= t.hx0) & (b.ix1 >= t.hx1) & (b.iy0 <= t.hy0) &

@@ -61,13 +61,33 @@ inline vi floor_small(vf y) {
 
 }  // namespace
 
-void CandidateBatch::gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
-                            const ItemBounds& item) {
-  const size_t most = static_cast<size_t>(end - begin) + kLanes;
-  for (auto& a : v)
-    if (a.size() < most) a.resize(most);
+void CandidateBatch::reserve(size_t most) {
+  for (auto* a : {&v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8], &zmin, &hx0,
+                  &hx1,  &hy0,  &hy1,  &nx,   &ny,   &nz,   &nd,   &n1,   &lmin, &lmax})
+    if (a->size() < most) a->resize(most);
   if (tri.size() < most) tri.resize(most), opaque.resize(most);
+}
+
+void CandidateBatch::pad() {
+  pad_setup();
+  // Padding lanes are beyond every depth too (never kept by keep()).
+  for (int i = count; i < padded; ++i) {
+    zmin[i] = kInfinity;
+    hx0[i] = hy0[i] = -kInfinity;
+    hx1[i] = hy1[i] = kInfinity;
+    nx[i] = ny[i] = nz[i] = nd[i] = n1[i] = 0.0f;
+    lmin[i] = -kInfinity, lmax[i] = kInfinity;
+  }
+}
+
+void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* planes,
+                            const CellPair* begin, const CellPair* end, const ItemBounds& item) {
+  // The list is sorted by zmin: the depth cut keeps a prefix.
+  end = std::partition_point(
+      begin, end, [&](const CellPair& pair) { return tris[pair.item].zmin <= item.zmax; });
+  reserve(static_cast<size_t>(end - begin) + kLanes);
   count = 0;
+  read = static_cast<int>(end - begin);
   // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
   // is unpredictable, the copy is one cache line).
   for (const CellPair* pair = begin; pair != end; ++pair) {
@@ -76,11 +96,64 @@ void CandidateBatch::gather(const PackedTriangle* tris, const CellPair* begin, c
     const int i = count;
     tri[i] = t;
     for (int c = 0; c < 9; ++c) v[c][i] = p.v[c];
-    opaque[i] = static_cast<uint8_t>(p.opaque);
+    zmin[i] = p.zmin, hx0[i] = p.hx0, hx1[i] = p.hx1, hy0[i] = p.hy0, hy1[i] = p.hy1;
+    opaque[i] = p.opaque;
     count += may_block(p, item);
   }
+  // Planes only for the kept ones (a second cache line per triangle, read once per item).
+  for (int i = 0; i < count; ++i) {
+    const TrianglePlane& q = planes[tri[i]];
+    nx[i] = q.nx, ny[i] = q.ny, nz[i] = q.nz, nd[i] = q.d, n1[i] = q.n1;
+    lmin[i] = q.lmin, lmax[i] = q.lmax;
+  }
+  pad();
+}
+
+void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
+                          const Vec3& p) {
+  reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
+  count = 0;
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  const vf px = splat(p.x), py = splat(p.y), pz = splat(p.z);
+  const vf p_inf = splat(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+  for (int first = begin; first < end; first += kLanes) {
+    // may_block() on 16 lanes (padding lanes fail the depth cut), within [begin, end).
+    vi kept = (lane_index + first < end) & (load(&from.zmin[first]) <= splat(bounds.zmax)) &
+              (splat(bounds.ix0) <= load(&from.hx0[first])) &
+              (splat(bounds.ix1) >= load(&from.hx1[first])) &
+              (splat(bounds.iy0) <= load(&from.hy0[first])) &
+              (splat(bounds.iy1) >= load(&from.hy1[first]));
+    // Separating plane: P and every light corner strictly on one side of T's plane.
+    const vf d = load(&from.nd[first]);
+    const vf side =
+        load(&from.nx[first]) * px + load(&from.ny[first]) * py + load(&from.nz[first]) * pz - d;
+    const vf tol = kPlaneRel * (load(&from.n1[first]) * p_inf + vmax(d, -d));
+    kept &= ~(((side > tol) & (load(&from.lmin[first]) > 0.0f)) |
+              ((side < -tol) & (load(&from.lmax[first]) < 0.0f)));
+    const uint32_t m = movemask(kept);
+    if (m == 0) continue;
+    // Lanes m of src[first..] to to[count..], in order (4-byte elements: floats, ids, flags).
+    auto move = [&](auto& to, const auto& src) {
+#if defined(__AVX512F__)
+      _mm512_mask_compressstoreu_epi32(&to[count], static_cast<__mmask16>(m),
+                                       _mm512_loadu_si512(&src[first]));
+#else
+      int o = count;
+      for (uint32_t l = m; l; l &= l - 1) to[o++] = src[first + std::countr_zero(l)];
+#endif
+    };
+    for (int c = 0; c < 9; ++c) move(v[c], from.v[c]);
+    move(tri, from.tri);
+    move(opaque, from.opaque);
+    count += std::popcount(m);
+  }
+  pad_setup();
+}
+
+void CandidateBatch::pad_setup() {
+  // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected). A pixel's
+  // batch is only set up and rasterized: its cull arrays are not padded.
   padded = (count + kLanes - 1) / kLanes * kLanes;
-  // Padding lanes: a degenerate triangle at the origin (det = 0: always rejected).
   for (int i = count; i < padded; ++i) {
     tri[i] = 0;
     opaque[i] = 0;

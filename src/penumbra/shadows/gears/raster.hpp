@@ -18,23 +18,38 @@ namespace penumbra::gears {
 
 inline constexpr int kLanes = 16;  // triangles set up together (one AVX-512 register of floats)
 
-/// Candidate triangles of one work item, gathered in light space (SoA, padded to 16).
+/// Candidate triangles of one work item (or of one pixel), in light space (SoA, padded to 16).
 struct CandidateBatch {
   std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
+  // Cull bounds (PackedTriangle: zmin, hx0, hx1, hy0, hy1; TrianglePlane), for the per-pixel cull.
+  std::vector<float> zmin, hx0, hx1, hy0, hy1;
+  std::vector<float> nx, ny, nz, nd, n1, lmin, lmax;
   std::vector<uint32_t> tri;
-  std::vector<uint8_t> opaque;  // 1: opaque material
+  std::vector<uint32_t> opaque;  // 1: opaque material
   int count = 0;
   int padded = 0;
+  int read = 0;  // list entries the last gather() read
   /// Gathers the candidates of [begin, end) that may block one of the work item's samples
   /// (gears/item_cull.hpp: depth cut and edge-angle slabs).
-  void gather(const PackedTriangle* tris, const CellPair* begin, const CellPair* end,
-              const ItemBounds& item);
+  void gather(const PackedTriangle* tris, const TrianglePlane* planes, const CellPair* begin,
+              const CellPair* end, const ItemBounds& item);
+  /// The candidates from[begin, end) (a work item's) that may block sample `p` (unmirrored light
+  /// space; `pixel`: its ItemBounds): the item's tests for this one sample and the
+  /// separating-plane test (TrianglePlane), in the same order. A pixel sets up only what this
+  /// keeps. (The plane test on a whole item's box culls next to nothing: the planes of a curved
+  /// surface cut it.)
+  void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p);
   /// The lanes of batch [first, first+16) whose triangle is opaque.
   uint32_t opaque_lanes(int first) const {
     uint32_t m = 0;
-    for (int l = 0; l < kLanes; ++l) m |= static_cast<uint32_t>(opaque[first + l]) << l;
+    for (int l = 0; l < kLanes; ++l) m |= opaque[first + l] << l;
     return m;
   }
+
+ private:
+  void reserve(size_t most);
+  void pad();
+  void pad_setup();
 };
 
 /// One pixel's light, in light space: light point X(u, v) = p + w + u·eu + v·ev.
