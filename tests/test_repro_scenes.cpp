@@ -293,12 +293,144 @@ TEST(LightOnOccluder, LightInsideTheWallOfAHollowBox) {
   }
 }
 
+// --- Points on occluder planes: the tie rule (shadows/method.hpp, docs/architecture.md) ----------
+
+/// Active pixels where two methods' hard shadows (V < ½) disagree; prints the first few.
+int hard_mismatches(const TestFrame& t, const std::string& a, const std::string& b) {
+  const MethodResult ra = t.run(a), rb = t.run(b);
+  int n = 0;
+  for (size_t i = 0; i < ra.per_light[0].lit.size(); ++i) {
+    if (t.frame->receivers(0)[i] != kActive) continue;
+    if ((ra.per_light[0].lit[i] < 0.5f) == (rb.per_light[0].lit[i] < 0.5f)) continue;
+    if (n++ < 5) {
+      const Vec3 p = t.frame->gbuffer().shadow_origin(i);
+      std::printf("      %s %.3f vs %s %.3f at pixel %zu (%.6f %.6f %.6f)\n", a.c_str(),
+                  ra.per_light[0].lit[i], b.c_str(), rb.per_light[0].lit[i], i, p.x, p.y, p.z);
+    }
+  }
+  return n;
+}
+
+/// The light centre on an edge of a box (its top face and one side face hold it): with one sample
+/// (the centre), gears was salt-and-pepper (mean |ΔV| 0.136 against raytrace) and shadow_volume
+/// differed on 35 % of the pixels, because Embree counted the faces through the light at t ≈ 1.
+TEST(TieRule, LightCentreOnABoxEdge) {
+  const Scene s =
+      test::box_scene(Vec3(0.5f, 2.5f, 0.0f), Vec3(0.5f, 0.5f, 0.3f), Vec3(0.0f, 3.0f, 0.0f));
+  const auto t = make_test_frame(s, 96, 96, one_sample());
+  const int g = hard_mismatches(t, "gears", "raytrace"),
+            v = hard_mismatches(t, "shadow_volume", "raytrace");
+  std::printf("    gears %d, shadow_volume %d mismatches against raytrace\n", g, v);
+  EXPECT_EQ(g, 0);
+  EXPECT_EQ(v, 0);
+}
+
+/// Sample-by-sample agreement of `method`'s masks with raytrace's (same light samples).
+uint64_t mask_mismatches(const TestFrame& t, const std::string& method, uint64_t* blocked) {
+  const MethodResult rt = t.run("raytrace", {}, true), m = t.run(method, {}, true);
+  const SampleMasks& a = *rt.per_light[0].masks;
+  const SampleMasks& b = *m.per_light[0].masks;
+  uint64_t n = 0;
+  *blocked = 0;
+  for (size_t i = 0; i < t.frame->gbuffer().pixel_count(); ++i) {
+    if (t.frame->receivers(0)[i] != kActive) continue;
+    for (int s = 0; s < t.frame->samples().count(); ++s) {
+      *blocked += a.blocked(i, s);
+      n += a.blocked(i, s) != b.blocked(i, s);
+    }
+  }
+  return n;
+}
+
+LightSampleSpec grid(int k) {
+  LightSampleSpec s = test::centre_sample();
+  s.k = k;
+  return s;
+}
+
+/// A rect light lying on the ground, emitting up: every ground receiver is coplanar with the light,
+/// and the ground's own plane holds every light point (t = 1 on the ground for every segment).
+/// The ground must not shadow itself; the box beside the light does.
+TEST(TieRule, ReceiverCoplanarWithTheLight) {
+  Scene s = test::box_scene(Vec3(0.0f, 0.5f, 0.0f), Vec3(0.3f, 0.5f, 0.3f), Vec3(1.2f, 0.0f, 0.0f));
+  s.lights[0].edge_u = Vec3(0.0f, 0.0f, 1.0f);  // cross(edge_u, edge_v) = +y: emits up
+  s.lights[0].edge_v = Vec3(1.0f, 0.0f, 0.0f);
+  const auto t4 = make_test_frame(s, 64, 64, grid(4));
+  uint64_t blocked = 0;
+  const uint64_t g = mask_mismatches(t4, "gears", &blocked);
+  std::printf("    gears: %llu of the samples differ from raytrace (%llu blocked)\n",
+              static_cast<unsigned long long>(g), static_cast<unsigned long long>(blocked));
+  EXPECT_EQ(g, 0u);
+  EXPECT_GT(blocked, 500u);
+  const auto t1 = make_test_frame(s, 64, 64, one_sample());
+  EXPECT_EQ(hard_mismatches(t1, "gears", "raytrace"), 0);
+  EXPECT_EQ(hard_mismatches(t1, "shadow_volume", "raytrace"), 0);
+  // exact against raytrace with 16 × 16 samples: sampling error only (it halves from 8 × 8 to
+  // 16 × 16 and again to 32 × 32).
+  const auto t16 = make_test_frame(std::move(s), 48, 48, grid(16));
+  const Err e = error_of(t16, "raytrace");
+  print("coplanar receivers, raytrace 16x16 vs exact", e);
+  EXPECT_LT(e.mean_abs_shadowed, 0.019);  // measured 0.0162 (37 pixels; 8×8: 3× more)
+  EXPECT_LT(e.max_abs, 0.026);            // measured 0.0213
+}
+
+/// A sheet lying in the light's plane, over half of the light: the segments end on it (t = 1), so
+/// it blocks nothing; every method gives the frame without it. `exact` clipped occluders to
+/// W ≤ 1 inclusive, so the sheet hid half the light there.
+TEST(TieRule, OccluderCoplanarWithTheLight) {
+  // The control has the same sheet in the light's plane beside the light, so that both scenes
+  // have the same bounds (hence the same ray offset, docs/architecture.md).
+  Scene without =
+      test::box_scene(Vec3(0.3f, 0.5f, 0.0f), Vec3(0.2f, 0.5f, 0.3f), Vec3(0.0f, 3.0f, 0.0f));
+  Scene with = without;
+  without.meshes.push_back(make_quad(Vec3(2.0f, 3.0f, 0.0f), Vec3(0, 0, 2), Vec3(1, 0, 0)));
+  with.meshes.push_back(make_quad(Vec3(0.5f, 3.0f, 0.0f), Vec3(0, 0, 2), Vec3(1, 0, 0)));
+  without.meshes.back().material = with.meshes.back().material = 0;
+  const auto a = make_test_frame(std::move(without), 64, 64, grid(4));
+  const auto b = make_test_frame(std::move(with), 64, 64, grid(4));
+  for (const char* method : {"exact", "raytrace", "gears", "shadow_volume"}) {
+    const MethodResult ra = a.run(method), rb = b.run(method);
+    double diff = 0.0;
+    int shadowed = 0;
+    for (size_t i = 0; i < ra.per_light[0].lit.size(); ++i) {
+      if (a.frame->receivers(0)[i] != kActive) continue;
+      diff = std::max(
+          diff, std::abs(static_cast<double>(ra.per_light[0].lit[i]) - rb.per_light[0].lit[i]));
+      shadowed += ra.per_light[0].lit[i] < 0.99f;
+    }
+    std::printf("    %-13s with the coplanar sheet vs without: max |dV| %.2e (%d shadowed)\n",
+                method, diff, shadowed);
+    EXPECT_LE(diff, 1e-6) << method;
+    EXPECT_GT(shadowed, 60) << method;
+  }
+}
+
+/// A sphere light inside a closed sphere mesh (its facets clear the light): every receiver outside
+/// is in the umbra, for every method.
+TEST(TieRule, SphereLightInsideASphere) {
+  Scene s = test::box_scene(Vec3(0.0f, 1.5f, 0.0f), Vec3(0.1f), Vec3(0.0f, 1.5f, 0.0f),
+                            LightShape::sphere);
+  s.meshes[1] = make_sphere(Vec3(0.0f, 1.5f, 0.0f), 0.35f, 16, 32);
+  s.meshes[1].material = 0;
+  s.lights[0].radius = 0.3f;
+  const auto t = make_test_frame(std::move(s), 48, 48, grid(4));
+  for (const char* method :
+       {"exact", "raytrace", "gears", "shadow_volume", "wedges", "wedge_blend"}) {
+    const MethodResult r = t.run(method);
+    float most = 0.0f;
+    for (size_t i = 0; i < r.per_light[0].lit.size(); ++i)
+      if (t.frame->receivers(0)[i] == kActive) most = std::max(most, r.per_light[0].lit[i]);
+    std::printf("    %-13s max V %.2e\n", method, most);
+    EXPECT_EQ(most, 0.0f) << method;
+  }
+}
+
 // --- Known limits, measured (docs/methods/wedges.md "Robustness") -------------------------------
 
 /// An occluder crossing the light's plane inside the light: no edge marks the cut, so the hard
 /// count from the centre decides the whole light; the error is the share of the light beyond the
 /// cut, 0.2 / 0.8 = 0.25 (too dark on one side of the wall, too bright on the other). Split 4 puts
-/// the cut on a sub-light border: exact.
+/// the cut on a sub-light border: exact, but for the tie rule's sliver (below).
 TEST(KnownLimits, OccluderCrossingTheLight) {
   const auto t = make_test_frame(test::wall_through_light_scene(), 64, 64, one_sample());
   const Err w = error_of(t, "wedges"), s4 = error_of(t, "wedges", {{"split", "4"}});
@@ -306,7 +438,9 @@ TEST(KnownLimits, OccluderCrossingTheLight) {
   print("wall through the light, split 4", s4);
   EXPECT_NEAR(w.max_abs, 0.25, 0.002);
   EXPECT_NEAR(w.mean_abs_shadowed, 0.23, 0.01);
-  EXPECT_LT(s4.max_abs, 1e-5);
+  // Not 0: the tie rule (shadows/method.hpp) lets the wall block only up to 2⁻¹⁶ of each segment
+  // short of the light in `exact`, a sliver beside the cut that the wedges' clip keeps.
+  EXPECT_LT(s4.max_abs, 1.2e-4);  // measured 8.3e-5
 }
 
 /// Paper IV §5.1 eq. 1 on two disjoint coplanar bars: `max + ½ min` undercounts coverages that
