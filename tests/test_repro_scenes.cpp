@@ -157,6 +157,13 @@ TEST(CurvedSheets, CoincidentBoxesOccludeOnce) {
       test::box_scene(Vec3(0.0f, 1.0f, 0.0f), Vec3(0.4f, 0.2f, 0.4f), Vec3(0.0f, 3.0f, 0.0f));
   Scene two = one;
   two.meshes.push_back(two.meshes[1]);
+  EXPECT_EQ(wedge_pass::caster_meshes(two).duplicate_faces, 12u);
+  // Opposite windings are not copies: a two-sided sheet keeps its back faces.
+  Scene sheet = one;
+  Mesh back = sheet.meshes[0];
+  for (Triangle& t : back.triangles) std::swap(t.v[1], t.v[2]);
+  sheet.meshes.push_back(back);
+  EXPECT_EQ(wedge_pass::caster_meshes(sheet).duplicate_faces, 0u);
   const auto t1 = make_test_frame(one, 64, 64, one_sample());
   const auto t2 = make_test_frame(std::move(two), 64, 64, one_sample());
   for (const char* method : {"wedges", "wedge_blend"}) {

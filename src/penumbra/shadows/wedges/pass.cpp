@@ -194,8 +194,9 @@ bool solid_for_wedges(const Mesh& mesh, const MeshEdges& e) {
 
 namespace {
 
-/// A triangle's three positions as exact bits, sorted: equal for coincident triangles whatever
-/// their vertex order, winding or mesh.
+/// A triangle's three positions as exact bits, in cyclic order from the smallest: equal for
+/// coincident triangles of the same winding whatever their first vertex or mesh. Opposite windings
+/// differ: a two-sided sheet's back faces and the touching faces of two boxes are kept.
 using TriangleKey = std::array<uint32_t, 9>;
 struct TriangleKeyHash {
   size_t operator()(const TriangleKey& k) const {
@@ -209,10 +210,10 @@ TriangleKey triangle_key(const Mesh& mesh, const Triangle& t) {
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < 3; ++k)
       p[c][k] = std::bit_cast<uint32_t>(mesh.positions[t.v[c]][k] + 0.0f);  // −0 → +0
-  std::sort(p.begin(), p.end());
+  const int first = static_cast<int>(std::min_element(p.begin(), p.end()) - p.begin());
   TriangleKey key;
   for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) key[3 * c + k] = p[c][k];
+    for (int k = 0; k < 3; ++k) key[3 * c + k] = p[(first + c) % 3][k];
   return key;
 }
 
@@ -257,6 +258,7 @@ CasterMeshes caster_meshes(const Scene& scene) {
       }
     }
     c.solid.push_back(solid_for_wedges(*used, edges));
+    c.bounds.push_back(used->bounds());
     c.meshes.push_back(used);
     c.edges.push_back(std::move(edges));
   }
@@ -273,9 +275,12 @@ Casters make_casters(const CasterMeshes& meshes, const Vec3& centre) {
     // The light centre inside a solid, or on its surface (the tie rule of docs/architecture.md:
     // a face through the light point blocks nothing): its light-facing faces miss the segments'
     // last crossing, so every face crossed counts, one layer (what shadow_volume counts).
-    const bool centre_inside =
-        solid && (point_on_surface(mesh, edges, DVec3(centre)) ||
-                  std::abs(winding_number(mesh, edges, DVec3(centre))) > 0.5);
+    const Bounds3& box = meshes.bounds[k];
+    const bool in_box = glm::all(glm::greaterThanEqual(centre, box.lo)) &&
+                        glm::all(glm::lessThanEqual(centre, box.hi));
+    const bool centre_inside = solid && in_box &&
+                               (point_on_surface(mesh, edges, DVec3(centre)) ||
+                                std::abs(winding_number(mesh, edges, DVec3(centre))) > 0.5);
     std::vector<std::unique_ptr<Mesh>> parts;
     if (!centre_inside) parts = facing_patches(mesh, edges, centre, solid);
     if (parts.empty()) {  // inside, on, or a sheet seen edge-on: the whole mesh, every crossing

@@ -116,6 +116,7 @@ struct CasterMeshes {
   std::vector<const Mesh*> meshes;
   std::vector<MeshEdges> edges;
   std::vector<uint8_t> solid;                      // solid_for_wedges, per mesh
+  std::vector<Bounds3> bounds;                     // per mesh
   std::vector<std::shared_ptr<const Mesh>> owned;  // the copies without duplicates, re-oriented
   size_t flipped_faces = 0, duplicate_faces = 0;
 };
