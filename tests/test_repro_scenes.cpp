@@ -330,6 +330,12 @@ TEST(TieRule, LightCentreOnABoxEdge) {
   std::printf("    gears %d, shadow_volume %d mismatches against raytrace\n", g, v);
   EXPECT_EQ(g, 0);
   EXPECT_EQ(v, 0);
+  // A point light on a box's top face (inside the face): the same, with gears' point-light path.
+  const auto p = make_test_frame(test::box_scene(Vec3(0.0f, 2.5f, 0.0f), Vec3(0.3f, 0.5f, 0.3f),
+                                                 Vec3(0.0f, 3.0f, 0.0f), LightShape::point),
+                                 64, 64, one_sample());
+  EXPECT_EQ(hard_mismatches(p, "gears", "raytrace"), 0);
+  EXPECT_EQ(hard_mismatches(p, "shadow_volume", "raytrace"), 0);
 }
 
 /// Sample-by-sample agreement of `method`'s masks with raytrace's (same light samples).
