@@ -67,14 +67,18 @@ TEST(Gears, MasksEqualRaytraceWhenAnOccluderMoves) {
 
 TEST(Gears, MasksEqualRaytraceOnBunny) {
   if (!find_model("bunny00.off")) GTEST_SKIP() << "bunny not fetched: run scripts/fetch-models.sh";
-  // Classification brute-forces 70k triangles per mismatch: only count here.
-  const MaskAgreement a = compare_masks(make_test_frame("bunny", 48, 48, grid(16)), {}, false);
-  std::printf("bunny masks: %llu pairs, %d blocked, %llu differ\n",
+  // Measured: 0 of 463 104 (pixel, sample) pairs differ. Classification brute-forces 70k
+  // triangles per mismatch, so at most a handful are allowed (rounding on a triangle edge may
+  // differ between instruction sets), and each must be explained.
+  const MaskAgreement a = compare_masks(make_test_frame("bunny", 48, 48, grid(16)), {}, true);
+  std::printf("bunny masks: %llu pairs, %d blocked, %llu differ, %llu unexplained\n",
               static_cast<unsigned long long>(a.pairs), a.blocked,
-              static_cast<unsigned long long>(a.differ));
-  EXPECT_GT(a.blocked, 1000);
-  EXPECT_LE(static_cast<double>(a.differ), 1e-3 * a.pairs) << a.differ << " of " << a.pairs;
-  EXPECT_LE(a.mean_abs_dv, 1e-3);
+              static_cast<unsigned long long>(a.differ),
+              static_cast<unsigned long long>(a.unexplained));
+  EXPECT_GT(a.blocked, 10000);
+  EXPECT_LE(a.differ, 5u) << a.differ << " of " << a.pairs;
+  EXPECT_EQ(a.unexplained, 0u);
+  EXPECT_LE(a.mean_abs_dv, 1e-5);
 }
 
 /// Every option changes only the candidate sets, never the answer.
@@ -368,8 +372,10 @@ TEST(Gears, LutVariantErrorIsSmall) {
   }
   mean /= edge.per_light[0].lit.size();
   std::printf("LUT vs edge planes: max %.4f mean %.5f\n", max, mean);
-  EXPECT_LE(mean, 0.01);
-  EXPECT_LE(max, 0.1);
+  // Measured: max 0.0117 (3 of 256 samples), mean 0.00043.
+  EXPECT_LE(mean, 0.0006);
+  EXPECT_LE(max, 0.016);
+  EXPECT_GT(mean, 0.0);  // the LUT is an approximation: it must not be the edge-plane path
 }
 
 TEST(Gears, ReportsThePaperStatistics) {

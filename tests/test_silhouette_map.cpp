@@ -182,7 +182,7 @@ TEST(SilhouetteMapHard, BoundaryCloserThanShadowMapOnSpheres) {
 
 /// Soft mode for a small spherical light: mean |error| vs exact over the active pixels, reported
 /// next to pcss and the hard shadow_map.
-void soft_vs_exact(Scene s, const char* label, double radius) {
+void soft_vs_exact(Scene s, const char* label, double radius, double measured_soft) {
   s.lights[0].shape = LightShape::sphere;
   s.lights[0].radius = static_cast<float>(radius);
   const TestFrame t = make_test_frame(std::move(s), 96, 96, pcss_samples());
@@ -198,22 +198,25 @@ void soft_vs_exact(Scene s, const char* label, double radius) {
   const ErrorStats pcss = err(t.run("pcss", {{"resolution", "256"}}));
   const ErrorStats sm = err(t.run("shadow_map", {{"resolution", "256"}}));
   std::printf(
-      "    %s, sphere r=%.2f, map 256: mean|err| (shadowed) silhouette_map soft %.4f (%.4f), "
-      "hard %.4f (%.4f), pcss %.4f (%.4f), shadow_map %.4f (%.4f)\n",
+      "    %s, sphere r=%.2f, map 256: mean|err| (shadowed) silhouette_map soft %.5f (%.4f), "
+      "hard %.5f (%.4f), pcss %.5f (%.4f), shadow_map %.5f (%.4f)\n",
       label, radius, soft.mean_abs, soft.mean_abs_shadowed, hard.mean_abs, hard.mean_abs_shadowed,
       pcss.mean_abs, pcss.mean_abs_shadowed, sm.mean_abs, sm.mean_abs_shadowed);
-  // Soft mode must beat its own hard mode; it is not claimed to beat pcss (docs).
+  // Soft mode must beat its own hard mode and (spheres 0.0239 against 0.0300; bunny, by a hair)
+  // the hard shadow map; it is not claimed to beat pcss (docs). Its measured error is held within
+  // 5 %: a soft mode that only blurred or only hardened moves it more.
   EXPECT_LT(soft.mean_abs, hard.mean_abs);
-  EXPECT_LT(soft.mean_abs, 1.5 * sm.mean_abs);
+  EXPECT_LT(soft.mean_abs, 1.005 * sm.mean_abs);  // bunny: 0.00716 against 0.00719
+  EXPECT_NEAR(soft.mean_abs, measured_soft, 0.05 * measured_soft);
 }
 
 TEST(SilhouetteMapSoft, SmallSphereLightOnSpheres) {
-  soft_vs_exact(make_builtin_scene("spheres"), "spheres", 0.1);
+  soft_vs_exact(make_builtin_scene("spheres"), "spheres", 0.1, 0.02386);
 }
 
 TEST(SilhouetteMapSoft, SmallSphereLightOnBunny) {
   if (!find_model("bunny00.off")) GTEST_SKIP() << "bunny not fetched: run scripts/fetch-models.sh";
-  soft_vs_exact(make_builtin_scene("bunny"), "bunny", 0.1);
+  soft_vs_exact(make_builtin_scene("bunny"), "bunny", 0.1, 0.00716);
 }
 
 /// Open meshes (a sphere with holes and flipped faces, the negated-normal rule) and zero-area

@@ -14,6 +14,17 @@ namespace penumbra {
 
 class EmbreeScene;
 
+/// The tie rule for points on occluder planes, shared by every method (docs/architecture.md,
+/// "Points on occluder planes"): an occluder blocks the shadow segment from a shadow origin o to a
+/// light point L only where it crosses it at a segment parameter t ≤ kShadowSegmentEnd, i.e. the
+/// segment's light end is offset like its receiver end. So a face through the light point (a
+/// light centre on a box's face, a receiver or an occluder coplanar with the light) never blocks
+/// it, whatever the rounding of the intersection: `raytrace` ends its rays there, `gears` moves
+/// its plane line, `exact` clips occluders to W ≤ kShadowSegmentEnd, and `shadow_volume` skips the
+/// faces whose plane holds the light point (face_side = 0, in double). 2⁻¹⁶ is far above float
+/// rounding of t (≈ 1e-7) and exactly representable in float.
+inline constexpr double kShadowSegmentEnd = 1.0 - 1.0 / 65536.0;
+
 struct ShadowContext {
   const Scene& scene;
   const EmbreeScene& embree;  // the scene's BVH (built once per frame)

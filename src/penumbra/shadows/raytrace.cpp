@@ -101,7 +101,7 @@ class Raytrace final : public ShadowMethod {
           ray.dir_y[l] = dir.y;
           ray.dir_z[l] = dir.z;
           ray.tnear[l] = 0.0f;
-          ray.tfar[l] = 1.0f;  // the segment ends on the light
+          ray.tfar[l] = static_cast<float>(kShadowSegmentEnd);  // the tie rule (method.hpp)
           ray.time[l] = 0.0f;
           ray.mask[l] = EmbreeScene::kMaskCaster;
           ray.id[l] = static_cast<unsigned>(l);
@@ -127,7 +127,7 @@ class Raytrace final : public ShadowMethod {
           ray.dir_y = dir.y;
           ray.dir_z = dir.z;
           ray.tnear = 0.0f;
-          ray.tfar = 1.0f;
+          ray.tfar = static_cast<float>(kShadowSegmentEnd);
           ray.mask = EmbreeScene::kMaskCaster;
           ray.id = static_cast<unsigned>(l);
           scratch.reset(static_cast<unsigned>(l));

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <tuple>
 
+#include "penumbra/shadows/method.hpp"
+
 namespace penumbra {
 
 namespace {
@@ -133,8 +135,8 @@ bool project_polygon(const LightProjection& proj, const DVec3* vertices, int cou
     switch (plane) {
       case 0:
         return h.z - kMinW;
-      case 1:
-        return 1.0 - h.z;
+      case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
+        return kShadowSegmentEnd - h.z;
       case 2:
         return h.x;
       case 3:

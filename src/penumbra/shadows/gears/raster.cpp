@@ -4,6 +4,8 @@
 #include <bit>
 #include <cstring>
 
+#include "penumbra/shadows/method.hpp"
+
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
@@ -17,6 +19,8 @@
 namespace penumbra::gears {
 
 namespace {
+
+constexpr float kTieMargin = static_cast<float>(1.0 - kShadowSegmentEnd);
 
 // GCC/Clang vector extensions: one register of 16 lanes (AVX-512 with -march=native, pairs or
 // quads of narrower registers elsewhere), no intrinsics needed for the arithmetic.
@@ -193,10 +197,21 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
       C[m] = s * (nx[m] * light.ev.x + ny[m] * light.ev.y + nz[m] * light.ev.z);
     }
   }
-  // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|.
-  A[3] = A[0] + A[1] + A[2] - s * det;
-  B[3] = B[0] + B[1] + B[2];
-  C[3] = C[0] + C[1] + C[2];
+  // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|, i.e.
+  // s·N·(X − A) ≥ 0 with N = Σ n_i = (b − a) × (c − a). Evaluated in that second form: Σ s·e_i and
+  // det are both of order |a|·|b|·|X − P| and cancel for a light point on the triangle's plane,
+  // which made the tie salt-and-pepper. The tie rule (shadows/method.hpp): the light point must be
+  // beyond the plane by (1 − kShadowSegmentEnd)·|X − P|, so a face through it never blocks.
+  const vf ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
+  const vf Nx = uy * wz - uz * wy, Ny = uz * wx - ux * wz, Nz = ux * wy - uy * wx;
+  const Vec3 reach = light.w + 0.5f * (light.eu + light.ev);       // P to the light centre
+  const vf norm1 = vmax(Nx, -Nx) + vmax(Ny, -Ny) + vmax(Nz, -Nz);  // |N| ≤ norm1 ≤ √3·|N|
+  const vf margin = splat(kTieMargin * glm::length(reach)) * norm1;
+  A[3] = s * (Nx * (splat(light.w.x) - ax) + Ny * (splat(light.w.y) - ay) +
+              Nz * (splat(light.w.z) - az)) -
+         margin;
+  B[3] = s * (Nx * light.eu.x + Ny * light.eu.y + Nz * light.eu.z);
+  C[3] = s * (Nx * light.ev.x + Ny * light.ev.y + Nz * light.ev.z);
   for (int m = 0; m < 4; ++m) {
     const vf best =
         A[m] + vmax(B[m] * uv_lo.x, B[m] * uv_hi.x) + vmax(C[m] * uv_lo.y, C[m] * uv_hi.y);

@@ -1,12 +1,16 @@
 #include "penumbra/shadows/wedges/pass.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <unordered_set>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/orientation.hpp"
 #include "penumbra/scene/silhouettes.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
 
@@ -129,11 +133,10 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
 /// holding only the positions they use. Faces seen edge-on (side 0) block nothing and belong to
 /// no patch.
 std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEdges& edges,
-                                                  const Vec3& centre) {
+                                                  const Vec3& centre, bool closed) {
   const std::vector<int8_t> sides = face_sides(mesh, edges, centre);
   // A closed mesh crosses every segment from outside once toward the light per layer pair: its
   // light-facing faces alone give the count. An open mesh: every face counts, whichever side.
-  const bool closed = solid_for_wedges(edges);
   auto kept = [&](size_t f) { return closed ? sides[f] > 0 : sides[f] != 0; };
   std::vector<uint32_t> parent(edges.faces.size());
   std::iota(parent.begin(), parent.end(), 0u);
@@ -183,24 +186,105 @@ std::vector<std::unique_ptr<Mesh>> facing_patches(const Mesh& mesh, const MeshEd
 
 }  // namespace
 
+bool solid_for_wedges(const Mesh& mesh, const MeshEdges& e) {
+  if (e.closed_manifold()) return true;
+  if (e.edges.empty() || e.non_manifold_edges != 0 || e.inconsistent_edges != 0) return false;
+  return hole_geometry(mesh, e).fraction() <= kHoleAreaFraction;
+}
+
+namespace {
+
+/// A triangle's three positions as exact bits, in cyclic order from the smallest: equal for
+/// coincident triangles of the same winding whatever their first vertex or mesh. Opposite windings
+/// differ: a two-sided sheet's back faces and the touching faces of two boxes are kept.
+using TriangleKey = std::array<uint32_t, 9>;
+struct TriangleKeyHash {
+  size_t operator()(const TriangleKey& k) const {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (uint32_t x : k) h = (h ^ x) * 0x100000001b3ull;
+    return static_cast<size_t>(h ^ (h >> 31));
+  }
+};
+TriangleKey triangle_key(const Mesh& mesh, const Triangle& t) {
+  std::array<std::array<uint32_t, 3>, 3> p;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k)
+      p[c][k] = std::bit_cast<uint32_t>(mesh.positions[t.v[c]][k] + 0.0f);  // −0 → +0
+  const int first = static_cast<int>(std::min_element(p.begin(), p.end()) - p.begin());
+  TriangleKey key;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) key[3 * c + k] = p[(first + c) % 3][k];
+  return key;
+}
+
+}  // namespace
+
 CasterMeshes caster_meshes(const Scene& scene) {
   CasterMeshes c;
-  for (const Mesh& mesh : scene.meshes) {
-    if (!mesh.casts_shadows || mesh.triangles.empty()) continue;
-    c.meshes.push_back(&mesh);
-    c.edges.push_back(build_mesh_edges(mesh));
+  // Coincident triangles (two copies of a box, a doubled face) occlude once: a second copy would
+  // add its hard count and its silhouette's coverage again, doubling the penumbra.
+  std::unordered_set<TriangleKey, TriangleKeyHash> seen;
+  for (const Mesh& original : scene.meshes) {
+    if (!original.casts_shadows || original.triangles.empty()) continue;
+    std::vector<Triangle> kept;
+    for (const Triangle& t : original.triangles) {
+      const bool valid = t.v[0] < original.positions.size() && t.v[1] < original.positions.size() &&
+                         t.v[2] < original.positions.size();
+      if (!valid || seen.insert(triangle_key(original, t)).second) kept.push_back(t);
+    }
+    if (kept.empty()) {
+      c.duplicate_faces += original.triangles.size();
+      continue;
+    }
+    const Mesh* source = &original;
+    if (kept.size() < original.triangles.size()) {
+      c.duplicate_faces += original.triangles.size() - kept.size();
+      auto copy = std::make_shared<Mesh>(original);
+      copy->triangles = std::move(kept);
+      source = copy.get();
+      c.owned.push_back(std::move(copy));
+    }
+    const Mesh& mesh = *source;
+    MeshEdges edges = build_mesh_edges(mesh);
+    const Mesh* used = &mesh;
+    if (edges.inconsistent_edges > 0) {
+      Reorientation r;
+      auto fixed = std::make_shared<const Mesh>(reorient(mesh, edges, &r));
+      if (r.changed()) {
+        edges = build_mesh_edges(*fixed);
+        used = fixed.get();
+        c.flipped_faces += r.flipped;
+        c.owned.push_back(std::move(fixed));
+      }
+    }
+    c.solid.push_back(solid_for_wedges(*used, edges));
+    c.bounds.push_back(used->bounds());
+    c.meshes.push_back(used);
+    c.edges.push_back(std::move(edges));
   }
   return c;
 }
 
 Casters make_casters(const CasterMeshes& meshes, const Vec3& centre) {
   Casters c;
+  c.reoriented = meshes.owned;
   for (size_t k = 0; k < meshes.meshes.size(); ++k) {
     const Mesh& mesh = *meshes.meshes[k];
     const MeshEdges& edges = meshes.edges[k];
-    std::vector<std::unique_ptr<Mesh>> parts = facing_patches(mesh, edges, centre);
-    if (parts.empty()) {  // nothing faces the light (it is inside): the whole mesh, layered
-      c.layers.push_back(mesh_layers(edges));
+    const bool solid = meshes.solid[k] != 0;
+    // The light centre inside a solid, or on its surface (the tie rule of docs/architecture.md:
+    // a face through the light point blocks nothing): its light-facing faces miss the segments'
+    // last crossing, so every face crossed counts, one layer (what shadow_volume counts).
+    const Bounds3& box = meshes.bounds[k];
+    const bool in_box = glm::all(glm::greaterThanEqual(centre, box.lo)) &&
+                        glm::all(glm::lessThanEqual(centre, box.hi));
+    const bool centre_inside = solid && in_box &&
+                               (point_on_surface(mesh, edges, DVec3(centre)) ||
+                                std::abs(winding_number(mesh, edges, DVec3(centre))) > 0.5);
+    std::vector<std::unique_ptr<Mesh>> parts;
+    if (!centre_inside) parts = facing_patches(mesh, edges, centre, solid);
+    if (parts.empty()) {  // inside, on, or a sheet seen edge-on: the whole mesh, every crossing
+      c.layers.push_back(1);
       c.meshes.push_back(&mesh);
       c.edges.push_back(edges);
       continue;

@@ -1,7 +1,7 @@
-// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp): light hull,
-// per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass 1), wedge
-// construction and screen binning, and the per-pixel visit of the wedges of a pixel's tile
-// (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
+// The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp):
+// light hull, per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass
+// 1), wedge construction and screen binning, and the per-pixel visit of the wedges of a pixel's
+// tile (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
 //
 // Groups. Paper IV §5.1's overlap approximation and Forest §3.2's blending both need the hard
 // count and the wedge coverage of each silhouette loop separately (Forest Algorithm 4 line 4:
@@ -35,10 +35,10 @@
 #include "penumbra/scene/edges.hpp"
 #include "penumbra/shadows/exact/projection.hpp"
 #include "penumbra/shadows/method.hpp"
-#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/geometry.hpp"
 #include "penumbra/shadows/wedges/screen.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra::wedge_pass {
 
@@ -59,18 +59,17 @@ inline int mesh_layers(const MeshEdges& e) {
 }
 
 /// Whether the wedge methods treat a mesh as a closed solid: its light-facing faces alone stand
-/// for it (make_casters). True for a closed 2-manifold and for a consistently oriented manifold
-/// mesh with a few holes — at most kHoleEdgeFraction of its edges on a boundary, like scanned
-/// models (the dragon: 6 boundary edges in 30 k). Counting every face of such a mesh as an open
-/// sheet would put two layers everywhere, with every silhouette edge's coverage counted twice (the
+/// for it (make_casters). Decided from orientation and hole geometry (scene/orientation.hpp), on
+/// the re-oriented mesh: a manifold, consistently oriented mesh whose holes (boundary loops, by
+/// vector area) total at most kHoleAreaFraction of its surface area — a closed mesh, or a scanned
+/// model with a few small holes (the dragon). Counting every face of such a mesh as an open sheet
+/// would put two layers everywhere, with every silhouette edge's coverage counted twice (the
 /// dragon's `wedges` error 0.120 instead of 0.058 at 512²); the price is that a light segment
-/// passing through a hole and then through the far side is counted lit.
-inline constexpr double kHoleEdgeFraction = 0.01;
-inline bool solid_for_wedges(const MeshEdges& e) {
-  return e.closed_manifold() ||
-         (e.non_manifold_edges == 0 && e.inconsistent_edges == 0 && !e.edges.empty() &&
-          static_cast<double>(e.boundary_edges) <= kHoleEdgeFraction * e.edges.size());
-}
+/// passing through a hole and then through the far side is counted lit, which confines the error
+/// to the hard shadows of the holes. An open bowl (hole ≈ half its area) or any curved sheet is
+/// open whatever its tessellation: every face counts.
+inline constexpr double kHoleAreaFraction = 0.01;
+bool solid_for_wedges(const Mesh& mesh, const MeshEdges& e);
 
 /// The emission texture of a textured light; a clear error naming `method` if the light names a
 /// texture the scene does not have.
@@ -101,16 +100,25 @@ PixelSetup pixel_setup(const ShadowContext& ctx);
 /// them, which only visits the light-facing half of a closed mesh's triangles); the overlap
 /// approximation and `wedge_blend` keep them apart (group_counts).
 struct Casters {
-  std::vector<std::unique_ptr<Mesh>> owned;  // patches
-  std::vector<const Mesh*> meshes;           // one per group
+  std::vector<std::unique_ptr<Mesh>> owned;             // patches
+  std::vector<std::shared_ptr<const Mesh>> reoriented;  // keeps CasterMeshes::owned alive
+  std::vector<const Mesh*> meshes;                      // one per group
   std::vector<MeshEdges> edges;
   std::vector<int> layers;
 };
 /// The caster meshes of a scene with their edge adjacency: built once per frame, shared by every
-/// (sub-)light's make_casters.
+/// (sub-)light's make_casters. A mesh with inconsistently oriented faces is replaced by its
+/// re-oriented copy (scene/orientation.hpp; the occluding triangles are the same), so one flipped
+/// triangle does not turn a closed mesh into an open one with two layers everywhere; triangles
+/// coincident with an earlier caster triangle (same three positions) are dropped, so coincident
+/// geometry occludes once.
 struct CasterMeshes {
   std::vector<const Mesh*> meshes;
   std::vector<MeshEdges> edges;
+  std::vector<uint8_t> solid;                      // solid_for_wedges, per mesh
+  std::vector<Bounds3> bounds;                     // per mesh
+  std::vector<std::shared_ptr<const Mesh>> owned;  // the copies without duplicates, re-oriented
+  size_t flipped_faces = 0, duplicate_faces = 0;
 };
 CasterMeshes caster_meshes(const Scene& scene);
 Casters make_casters(const CasterMeshes& meshes, const Vec3& centre);
