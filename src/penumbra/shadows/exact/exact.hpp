@@ -24,6 +24,9 @@ struct ExactOptions {
   /// 1.9e-5 for 256; see make_light_outline).
   int disk_segments = 256;
   int leaf_size = 4;  // BVH leaf size, triangles
+  /// Skip the triangles of closed opaque meshes that cannot change the union (exact: see
+  /// ExactScene::solids and cull_mode in exact.cpp). False projects every triangle.
+  bool cull_back_faces = true;
 };
 
 /// One shadow-casting triangle, in double precision (the float vertices convert exactly).
@@ -36,6 +39,19 @@ struct ExactOccluder {
   bool cut = false;
   uint32_t piece_first = 0;
   uint32_t piece_count = 0;
+  /// Index into ExactScene::solids() when the triangle belongs to a closed opaque mesh, else
+  /// kNotSolid.
+  uint32_t solid = kNotSolid;
+  static constexpr uint32_t kNotSolid = 0xFFFFFFFFu;
+};
+
+/// A closed, consistently oriented 2-manifold mesh (MeshTopology::closed_manifold) whose triangles
+/// are all opaque and uncut: the surface bounds a region with an integer winding number w
+/// (0 far away), and every crossing of the surface changes w by ±1 according to the side it
+/// crosses from. That is what lets half of its triangles be skipped (cull_mode in exact.cpp).
+struct ExactSolid {
+  Bounds3 box;
+  uint32_t mesh = 0;
 };
 
 /// A convex part of an alpha-textured triangle (at most 7 vertices: triangle ∩ texel-run
@@ -50,19 +66,22 @@ struct ExactPiece {
 /// and the BVH over them.
 class ExactScene {
  public:
-  explicit ExactScene(const Scene& scene, int leaf_size = 4);
+  explicit ExactScene(const Scene& scene, int leaf_size = 4, bool cull_back_faces = true);
 
   const Scene& scene() const { return *scene_; }
   const std::vector<ExactOccluder>& occluders() const { return occluders_; }
   const std::vector<ExactPiece>& pieces() const { return pieces_; }
   const std::vector<DVec3>& piece_vertices() const { return piece_vertices_; }
   const ExactBvh& bvh() const { return bvh_; }
+  /// The closed opaque meshes whose back faces may be culled (none when culling is off).
+  const std::vector<ExactSolid>& solids() const { return solids_; }
 
  private:
   const Scene* scene_;
   std::vector<ExactOccluder> occluders_;
   std::vector<ExactPiece> pieces_;
   std::vector<DVec3> piece_vertices_;
+  std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
 };
 
@@ -102,6 +121,7 @@ struct ExactPointResult {
   uint32_t candidates =
       0;  // occluder triangles whose box met the pyramid (the segment: point lights)
   uint32_t polygons = 0;  // non-empty projected occluder polygons
+  uint32_t culled = 0;    // candidates of closed meshes skipped as unable to change the union
   /// The receiver lies in the light's plane (or is not finite): the projection is undefined and
   /// the documented fallback V = 1 ("light touching geometry") was taken.
   bool degenerate = false;

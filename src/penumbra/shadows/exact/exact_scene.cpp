@@ -6,6 +6,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/scene/topology.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
 
 namespace penumbra {
@@ -186,7 +187,23 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
 
 }  // namespace
 
-ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
+ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) : scene_(&scene) {
+  // Closed opaque meshes: candidates for back-face culling.
+  std::vector<uint32_t> solid_of_mesh(scene.meshes.size(), ExactOccluder::kNotSolid);
+  if (cull_back_faces) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+      const Mesh& mesh = scene.meshes[m];
+      const Material& mat = scene.material_of(mesh);
+      if (!mesh.casts_shadows || mat.transmittance > 0.0f || mat.alpha_texture >= 0) continue;
+      if (!analyze_topology(mesh).closed_manifold) continue;
+      ExactSolid solid;
+      solid.mesh = static_cast<uint32_t>(m);
+      for (const Vec3& v : mesh.positions) solid.box.extend(v);
+      solid_of_mesh[m] = static_cast<uint32_t>(solids_.size());
+      solids_.push_back(solid);
+    }
+  }
+
   struct Item {
     uint32_t mesh, tri;
   };
@@ -237,6 +254,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
       box.extend(mesh.vertex(items[k].tri, i));
     }
     o.transmittance = std::max(0.0, static_cast<double>(mat.transmittance));
+    o.solid = solid_of_mesh[items[k].mesh];
     if (mat.alpha_texture >= 0 && !alpha[k].whole) {
       if (alpha[k].pieces.empty()) continue;  // all holes
       o.cut = true;
