@@ -243,19 +243,26 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     const double side = glm::dot(glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]), p - o.v[0]);
     return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);
   };
-  ClipperLib::Paths opaque;
+  // Opaque polygons go to a per-thread pool whose paths keep their capacity from pixel to pixel:
+  // no allocation per polygon.
+  thread_local ClipperLib::Paths pool;
+  size_t opaque_count = 0;
   std::vector<SemiPolygon> semi;
   ClipperLib::Path poly;
   bool umbra = false;
   const auto add = [&](const ExactOccluder& o, const DVec3* vertices, int count) {
-    if (!project_polygon(proj, vertices, count, poly)) return;
-    ++r.polygons;
     if (o.transmittance > 0.0) {
+      if (!project_polygon(proj, vertices, count, poly)) return;
+      ++r.polygons;
       semi.push_back({poly, o.transmittance});
-    } else {
-      umbra = umbra || covers_square(poly);
-      opaque.push_back(poly);
+      return;
     }
+    if (pool.size() == opaque_count) pool.emplace_back();
+    ClipperLib::Path& out = pool[opaque_count];
+    if (!project_polygon(proj, vertices, count, out)) return;
+    ++r.polygons;
+    ++opaque_count;
+    umbra = umbra || covers_square(out);
   };
   scene.bvh().traverse(
       [&](const ExactBvh::Node& n) { return box_meets_pyramid(proj, n.lo, n.hi); },
@@ -279,10 +286,11 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.visible_rgb = DVec3(0.0);
     return r;
   }
-  if (opaque.empty() && semi.empty()) return r;
+  if (opaque_count == 0 && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
-  const std::vector<LightRegion> regions = visible_regions(outline, opaque, semi);
+  const std::vector<LightRegion> regions =
+      visible_regions(outline, std::span<const ClipperLib::Path>(pool.data(), opaque_count), semi);
   double visible_area = 0.0;
   for (const LightRegion& region : regions)
     visible_area += region.weight * paths_area(region.paths);
