@@ -289,6 +289,13 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   if (opaque_count == 0 && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
+  if (opaque_count == 1 && semi.empty() && !outline.round && !light.textured()) {
+    // One convex polygon, already clipped to the uv square that is the whole light: no boolean.
+    const double v = 1.0 - std::abs(ClipperLib::Area(pool[0])) / outline.area;
+    r.visible = std::clamp(v, 0.0, 1.0);
+    r.visible_rgb = DVec3(r.visible);
+    return r;
+  }
   const std::vector<LightRegion> regions =
       visible_regions(outline, std::span<const ClipperLib::Path>(pool.data(), opaque_count), semi);
   double visible_area = 0.0;
