@@ -70,28 +70,32 @@ bool covers_square(const ClipperLib::Path& poly) {
   return true;
 }
 
-// Back-face culling on closed meshes, exactly. Let S be an ExactSolid: a closed, consistently
-// oriented 2-manifold, so space off the surface has an integer winding number w (0 far away), and
-// a segment crossing a triangle T transversally changes w by +1 when it goes from the side T's
-// normal n_T = (v1 − v0) × (v2 − v0) points to onto the other (it "enters"), by −1 otherwise.
-// From the receiver p, a triangle it sees from its positive side (n_T·(p − v0) > 0) can only be
-// entered by segments leaving p, and one it sees from behind only left.
+// Back-face culling, exactly. Let S be an ExactSolid: an opaque mesh M plus caps C such that
+// Z = M + C is a 2-cycle (no boundary). Z gives space off it an integer winding number w (0 far
+// away), and a segment crossing a triangle T of Z transversally changes w by +1 when it goes from
+// the side T's normal n_T = (v1 − v0) × (v2 − v0) points to onto the other (it "enters"), by −1
+// otherwise. From the receiver p, the triangles it sees from their positive side
+// (n_T·(p − v0) > 0) can only be entered by segments leaving p, those it sees from behind only
+// left.
 //
-// Claim: if w(q) = 0 at every light point q and w(p) ≤ 0, the light points blocked by S (segment
-// p → q meets S) are, up to a set of measure zero, those blocked by the triangles seen from their
-// positive side; if w(p) ≥ 0, those seen from behind.
-// Proof: drop the measure-zero set of q whose segment passes through an edge or vertex of S or
-// lies in a triangle's plane; every other segment crosses S transversally, at finitely many points
-// (possibly none). Along p → q, w goes from w(p) to w(q) = 0 in steps of ±1. If the segment
-// crosses S but never "enters" (+1), all k ≥ 1 steps are −1 and 0 = w(p) − k, so w(p) = k ≥ 1:
-// impossible when w(p) ≤ 0. Hence when w(p) ≤ 0 every blocked q is blocked by an entered triangle,
-// and those are exactly the ones seen from their positive side. Symmetrically for w(p) ≥ 0 with
-// the −1 steps. The skipped triangles' projections thus lie inside the kept ones' union, up to
-// measure zero, and the visible area V is unchanged. No assumption on self-intersection or on the
-// mesh's orientation (outward or inward) is needed. ∎
-// w(q) = 0 holds when the light's parallelogram lies outside S's box. w(p) = 0 when p is outside
-// the box; otherwise it is counted along a ray (winding_number), and any doubt (a crossing within
-// 1e-9 of an edge, a ray nearly parallel to a triangle) keeps every triangle of S.
+// Claim: if w(q) = 0 at every light point q, no segment from p to the light meets a cap, and
+// w(p) ≤ 0, the light points blocked by M (segment p → q meets M) are, up to a set of measure zero,
+// those blocked by the triangles of M seen from their positive side; if w(p) ≥ 0, those seen from
+// behind.
+// Proof: drop the measure-zero set of q whose segment passes through an edge or vertex of Z or
+// lies in a triangle's plane; every other segment crosses Z transversally at finitely many points,
+// all on M (it misses the caps). Along p → q, w goes from w(p) to w(q) = 0 in steps of ±1. If the
+// segment crosses M but never enters, all its k ≥ 1 steps are −1 and 0 = w(p) − k, so w(p) ≥ 1:
+// impossible when w(p) ≤ 0. Hence every blocked q is blocked by an entered triangle, which p sees
+// from its positive side. Symmetrically for w(p) ≥ 0 with the −1 steps. The skipped triangles'
+// projections thus lie inside the kept ones' union up to measure zero, and the visible area V is
+// unchanged. Self-intersections, inward orientation, holes and inconsistent neighbours need no
+// special case: the caps make Z a cycle whatever M is. ∎
+// The premises are checked conservatively per pixel: the light's parallelogram outside S's box
+// (so w(q) = 0), the pyramid from p to the light missing every cap's box (every segment p → q lies
+// in the pyramid), and w(p) = 0 outside S's box or else counted along a ray (winding_number);
+// any doubt (a crossing within 1e-9 of an edge, a ray nearly in a triangle's plane) keeps every
+// triangle of S.
 enum class Cull : uint8_t { all, keep_positive, keep_negative, unknown };
 
 /// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle going against / along its normal,
@@ -131,6 +135,11 @@ bool winding_number(const ExactScene& scene, uint32_t solid, const DVec3& p, int
   const DVec3 seg = (2.0 * reach) * dir;
   int crossings = 0;
   bool sure = true;
+  for (const auto& cap : s.caps) {
+    const int c = signed_crossing(p, seg, cap[0], cap[1], cap[2]);
+    if (c == kUnsure) return false;
+    crossings += c;
+  }
   const auto& occluders = scene.occluders();
   scene.bvh().traverse(
       [&](const ExactBvh::Node& n) { return sure && segment_meets_box(p, seg, n.lo, n.hi); },
@@ -158,9 +167,13 @@ bool boxes_overlap(const Bounds3& a, const Bounds3& b) {
 }
 
 /// Which triangles of solid `s` the receiver p may skip for the light parallelogram `light_box`.
-Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds3& light_box) {
-  const Bounds3& box = scene.solids()[s].box;
+Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds3& light_box,
+               const LightProjection& proj) {
+  const ExactSolid& solid = scene.solids()[s];
+  const Bounds3& box = solid.box;
   if (boxes_overlap(box, light_box)) return Cull::all;  // w(q) = 0 not established
+  for (const Bounds3& cap : solid.cap_boxes)
+    if (box_meets_pyramid(proj, cap.lo, cap.hi)) return Cull::all;  // a segment may cross a cap
   Bounds3 point;
   point.extend(Vec3(p));
   if (!boxes_overlap(box, point)) return Cull::keep_positive;  // outside the box: w(p) = 0
@@ -238,7 +251,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const auto skipped = [&](const ExactOccluder& o) {
     if (o.solid == ExactOccluder::kNotSolid) return false;
     Cull& mode = cull[o.solid];
-    if (mode == Cull::unknown) mode = cull_mode(scene, o.solid, p, light_box);
+    if (mode == Cull::unknown) mode = cull_mode(scene, o.solid, p, light_box, proj);
     if (mode == Cull::all) return false;
     const double side = glm::dot(glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]), p - o.v[0]);
     return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);

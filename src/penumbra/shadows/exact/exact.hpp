@@ -9,6 +9,7 @@
 // It shares no candidate search with any method it judges (its own BVH, exact/bvh.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -24,7 +25,7 @@ struct ExactOptions {
   /// 1.9e-5 for 256; see make_light_outline).
   int disk_segments = 256;
   int leaf_size = 4;  // BVH leaf size, triangles
-  /// Skip the triangles of closed opaque meshes that cannot change the union (exact: see
+  /// Skip the triangles of opaque meshes that cannot change the union (exact: see
   /// ExactScene::solids and cull_mode in exact.cpp). False projects every triangle.
   bool cull_back_faces = true;
 };
@@ -39,20 +40,28 @@ struct ExactOccluder {
   bool cut = false;
   uint32_t piece_first = 0;
   uint32_t piece_count = 0;
-  /// Index into ExactScene::solids() when the triangle belongs to a closed opaque mesh, else
+  /// Index into ExactScene::solids() when the triangle belongs to an opaque uncut mesh, else
   /// kNotSolid.
   uint32_t solid = kNotSolid;
   static constexpr uint32_t kNotSolid = 0xFFFFFFFFu;
 };
 
-/// A closed, consistently oriented 2-manifold mesh (MeshTopology::closed_manifold) whose triangles
-/// are all opaque and uncut: the surface bounds a region with an integer winding number w
-/// (0 far away), and every crossing of the surface changes w by ±1 according to the side it
-/// crosses from. That is what lets half of its triangles be skipped (cull_mode in exact.cpp).
+/// An opaque, uncut mesh made a closed surface: its triangles plus virtual caps — fans over the
+/// closed walks of its boundary (the directed edges whose copies do not cancel: holes, and edges of
+/// inconsistently oriented or non-manifold neighbours), oriented so that mesh + caps is a 2-cycle.
+/// That cycle gives space an integer winding number w (0 far away) that every transversal crossing
+/// changes by ±1, which is what lets half of the mesh's triangles be skipped wherever the pyramid
+/// from the receiver to the light misses the caps (cull_mode in exact.cpp). A closed manifold has
+/// no caps. The caps are never projected: they exist for the winding number and the cap test.
 struct ExactSolid {
-  Bounds3 box;
+  Bounds3 box;  // of the mesh's vertices (caps included)
   uint32_t mesh = 0;
+  std::vector<std::array<DVec3, 3>> caps;
+  std::vector<Bounds3> cap_boxes;  // one per boundary walk
 };
+/// Meshes needing more cap triangles than this (large open surfaces) are not made solids: their
+/// caps would be met by most pyramids and would cost every winding-number ray.
+inline constexpr size_t kMaxCapTriangles = 1024;
 
 /// A convex part of an alpha-textured triangle (at most 7 vertices: triangle ∩ texel-run
 /// rectangle) where the nearest-texel mask is opaque: piece_vertices()[first, first + count).
@@ -73,7 +82,7 @@ class ExactScene {
   const std::vector<ExactPiece>& pieces() const { return pieces_; }
   const std::vector<DVec3>& piece_vertices() const { return piece_vertices_; }
   const ExactBvh& bvh() const { return bvh_; }
-  /// The closed opaque meshes whose back faces may be culled (none when culling is off).
+  /// The opaque meshes whose back faces may be culled (none when culling is off).
   const std::vector<ExactSolid>& solids() const { return solids_; }
 
  private:
