@@ -249,10 +249,11 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   const auto less = [](const IntPoint& a, const IntPoint& b) {
     return a.X < b.X || (a.X == b.X && a.Y < b.Y);
   };
+  // 24-byte slots keyed by the packed end points (coordinates are in [0, 2^30), so X·2^32 + Y is
+  // exact and 0 is never a valid pair of distinct points: it marks an empty slot).
   struct Slot {
-    IntPoint lo, hi;
-    int net = 0;
-    bool used = false;
+    uint64_t lo = 0, hi = 0;
+    int64_t net = 0;
   };
   size_t count = 0;
   for (const Path& p : polygons) count += p.size();
@@ -263,23 +264,21 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   if (table.size() < capacity) table.assign(capacity, Slot{});
   used.clear();
   const auto pack = [](const IntPoint& q) {
-    return (static_cast<uint64_t>(q.X) << 32) ^ static_cast<uint64_t>(q.Y);
+    return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
   };
   for (const Path& p : polygons) {
     for (size_t i = 0; i < p.size(); ++i) {
       const IntPoint& a = p[i];
       const IntPoint& b = p[(i + 1) % p.size()];
       if (a == b) continue;
-      const bool forward = less(a, b);
-      const IntPoint& lo = forward ? a : b;
-      const IntPoint& hi = forward ? b : a;
-      size_t h = static_cast<size_t>(splitmix(pack(lo) * 0x9e3779b97f4a7c15ull ^ pack(hi))) &
-                 (capacity - 1);
-      while (table[h].used && !(table[h].lo == lo && table[h].hi == hi))
+      const uint64_t ka = pack(a), kb = pack(b);
+      const bool forward = ka < kb;  // the same order as `less` on (X, Y)
+      const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
+      size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
+      while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
         h = (h + 1) & (capacity - 1);
       Slot& slot = table[h];
-      if (!slot.used) {
-        slot.used = true;
+      if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
         slot.lo = lo;
         slot.hi = hi;
         used.push_back(h);
@@ -293,10 +292,14 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   };
   thread_local std::vector<Directed> kept;
   kept.clear();
+  const auto unpack = [](uint64_t k) {
+    return IntPoint(static_cast<cInt>(k >> 32), static_cast<cInt>(k & 0xFFFFFFFFull));
+  };
   for (const size_t h : used) {
     Slot& slot = table[h];
-    for (int k = 0; k < std::abs(slot.net); ++k)
-      kept.push_back(slot.net > 0 ? Directed{slot.lo, slot.hi} : Directed{slot.hi, slot.lo});
+    const IntPoint lo = unpack(slot.lo), hi = unpack(slot.hi);
+    for (int64_t k = 0; k < std::abs(slot.net); ++k)
+      kept.push_back(slot.net > 0 ? Directed{lo, hi} : Directed{hi, lo});
     slot = Slot{};
   }
   std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
