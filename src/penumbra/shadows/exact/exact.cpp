@@ -95,7 +95,9 @@ bool covers_square(const ClipperLib::Path& poly) {
 // (so w(q) = 0), the pyramid from p to the light missing every cap's box (every segment p → q lies
 // in the pyramid), and w(p) = 0 outside S's box or else counted along a ray (winding_number);
 // any doubt (a crossing within 1e-9 of an edge, a ray nearly in a triangle's plane) keeps every
-// triangle of S.
+// triangle of S. One caveat outside the proof: project_polygon ignores what lies within kMinW
+// (1e-9 of the distance to the light) of p, culled or not; only a surface passing that close to p
+// — a thousand times closer than the shared ray offset — could make the two differ.
 enum class Cull : uint8_t { all, keep_positive, keep_negative, unknown };
 
 /// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle going against / along its normal,
