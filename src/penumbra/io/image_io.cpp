@@ -18,6 +18,7 @@
 #include <limits>
 #include <set>
 #include <system_error>
+#include <thread>
 
 #include "penumbra/core/error.hpp"
 
@@ -232,7 +233,9 @@ void write_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
       frame.insert(layer.name,
                    Imf::Slice::Make(Imf::FLOAT, layer.pixels.data(), header.dataWindow()));
     }
-    Imf::OutputFile file(path.string().c_str(), header);
+    // ZIP compresses blocks of 16 scanlines independently: OpenEXR's own threads share them.
+    const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    Imf::OutputFile file(path.string().c_str(), header, threads);
     file.setFrameBuffer(frame);
     file.writePixels(height);
   } catch (const std::exception& e) {

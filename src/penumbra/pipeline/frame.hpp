@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "penumbra/core/light_samples.hpp"
+#include "penumbra/pipeline/irradiance.hpp"
 #include "penumbra/render/embree_scene.hpp"
 #include "penumbra/render/gbuffer.hpp"
 #include "penumbra/shadows/registry.hpp"
@@ -32,22 +33,28 @@ class Frame {
   const LightSamples& samples() const { return samples_; }
   const Image<uint8_t>& receivers(size_t light) const { return receivers_[light]; }
   double gbuffer_ms() const { return gbuffer_ms_; }
+  /// Receiver classification, all lights.
+  double receivers_ms() const { return receivers_ms_; }
+  /// The unshadowed irradiance images computed so far (all lights; 0 until the first unshadowed()).
+  double irradiance_ms() const;
 
   /// Runs `info` with `options` on every light. Pixels the method need not compute are set here:
   /// background 1, back-facing 0. Throws Error if the method returns a wrongly sized image, and
   /// replaces any non-finite value by failing loudly (never a NaN pixel in an output).
   MethodResult run(const MethodInfo& info, const MethodOptions& options, bool want_masks) const;
 
-  /// The unshadowed irradiance of light `light` at every kActive pixel (0 elsewhere;
-  /// shading.hpp's unshadowed_irradiance), computed on first use and kept: it does not depend on
-  /// the method, so every method's beauty image shares it. Thread-safe.
+  /// The unshadowed irradiance of light `light` at every kActive pixel (0 elsewhere), at
+  /// GBuffer::shadow_origin with the shading normal, in closed form (irradiance.hpp), computed on
+  /// first use and kept: it does not depend on the method, so every method's beauty image shares
+  /// it. Thread-safe.
   const Image<Vec3>& unshadowed(size_t light) const;
 
  private:
   struct UnshadowedCache {
-    explicit UnshadowedCache(size_t lights) : once(lights), images(lights) {}
+    explicit UnshadowedCache(size_t lights) : once(lights), images(lights), ms(lights, 0.0) {}
     std::vector<std::once_flag> once;
     std::vector<Image<Vec3>> images;
+    std::vector<double> ms;
   };
 
   const Scene* scene_;
@@ -56,6 +63,8 @@ class Frame {
   LightSamples samples_;
   std::vector<Image<uint8_t>> receivers_;
   double gbuffer_ms_ = 0.0;
+  double receivers_ms_ = 0.0;
+  std::vector<LightIrradiance> irradiance_;
   std::unique_ptr<UnshadowedCache> unshadowed_;
 };
 

@@ -130,7 +130,10 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
   j["times_ms"] = times;
   j["counters"] = counters;
   if (result.per_light.size() > 1) j["lights"] = lights;
-  j["frame"] = {{"bvh_build_ms", frame.embree().build_ms()}, {"gbuffer_ms", frame.gbuffer_ms()}};
+  j["frame"] = {{"bvh_build_ms", frame.embree().build_ms()},
+                {"gbuffer_ms", frame.gbuffer_ms()},
+                {"receivers_ms", frame.receivers_ms()},
+                {"irradiance_ms", frame.irradiance_ms()}};
   if (vs_exact) j["error_vs_exact"] = to_json(*vs_exact);
   return j;
 }

@@ -13,7 +13,6 @@ namespace penumbra {
 namespace {
 
 const Vec3 kBackgroundRadiance(0.05f, 0.06f, 0.08f);
-constexpr int kIrradianceGrid = 16;
 
 /// Radiance × cosθ_receiver × cosθ_light / r² toward `light_point`, times the light-side
 /// area element (the caller multiplies by the sample's area).
@@ -43,30 +42,6 @@ float frame_area(const LightFrame& f) {
 
 std::string_view to_string(ShadingMode mode) {
   return mode == ShadingMode::modulate ? "modulate" : "integrate";
-}
-
-Vec3 unshadowed_irradiance(const Frame& frame, size_t light_index, size_t i) {
-  const Light& light = frame.scene().lights[light_index];
-  const GBuffer& g = frame.gbuffer();
-  const Vec3 p = g.shadow_origin(i);
-  const Vec3 n = g.shading_normal[i];
-  const LightFrame f = light_frame(light, p);
-  if (light.shape == LightShape::point) {
-    const Vec3 d = light.center - p;
-    const float r2 = glm::dot(d, d);
-    const float cos_r = glm::dot(n, d) / std::sqrt(r2);
-    return cos_r > 0.0f ? light.radiance * (cos_r / r2) : Vec3(0.0f);
-  }
-  const float cell_area = frame_area(f) / static_cast<float>(kIrradianceGrid * kIrradianceGrid);
-  Vec3 sum(0.0f);
-  for (int v = 0; v < kIrradianceGrid; ++v)
-    for (int u = 0; u < kIrradianceGrid; ++u) {
-      const Vec2 uv((static_cast<float>(u) + 0.5f) / kIrradianceGrid,
-                    (static_cast<float>(v) + 0.5f) / kIrradianceGrid);
-      if (!f.emits(uv)) continue;
-      sum += geometry_term(light, f, p, n, f.point(uv), sample_radiance(frame.scene(), light, uv));
-    }
-  return sum * cell_area;
 }
 
 Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
@@ -128,8 +103,7 @@ float auto_exposure(const Frame& frame) {
       const size_t i = static_cast<size_t>(y) * g.width + x;
       if (g.is_background(i)) continue;
       Vec3 e(0.0f);
-      for (size_t l = 0; l < scene.lights.size(); ++l)
-        if (frame.receivers(l)[i] == kActive) e += unshadowed_irradiance(frame, l, i);
+      for (size_t l = 0; l < scene.lights.size(); ++l) e += frame.unshadowed(l)[i];
       const Vec3 albedo = scene.material_of(scene.meshes[g.mesh_id[i]]).albedo;
       lum.push_back(luminance(albedo * (e / static_cast<float>(kPi) + scene.ambient)));
     }

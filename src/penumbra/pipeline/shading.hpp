@@ -23,10 +23,6 @@ enum class ShadingMode {
 
 std::string_view to_string(ShadingMode mode);
 
-/// Unshadowed irradiance at a pixel from one light, integrated over a fixed 16×16 grid of the
-/// light (analytic for a point light), one-sided lights emitting only along their normal.
-Vec3 unshadowed_irradiance(const Frame& frame, size_t light, size_t pixel);
-
 /// Shades every pixel. `per_light[l]` is the visibility of light l.
 Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
                   ShadingMode mode);

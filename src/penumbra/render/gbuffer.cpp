@@ -20,11 +20,12 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
   g.uv = Image<Vec2>(g.width, g.height, Vec2(0.0f));
   g.ray_offset = kRayOffsetPerDiagonal * scene.bounds().diagonal();
 
+  const Camera::RayBasis rays = camera.ray_basis();
   parallel_rows(g.height, [&](int y) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (int x = 0; x < g.width; ++x) {
-      const Vec3 dir = camera.ray_direction(static_cast<float>(x), static_cast<float>(y));
+      const Vec3 dir = rays.direction(static_cast<float>(x), static_cast<float>(y));
       RTCRayHit rh{};
       rh.ray.org_x = camera.position.x;
       rh.ray.org_y = camera.position.y;

@@ -4,15 +4,20 @@
 
 namespace penumbra {
 
+Camera::RayBasis Camera::ray_basis() const {
+  RayBasis b;
+  b.forward = glm::normalize(target - position);
+  b.right = glm::normalize(glm::cross(b.forward, up));
+  b.true_up = glm::cross(b.right, b.forward);
+  b.tan_half = std::tan(0.5f * vfov_deg * static_cast<float>(kPi) / 180.0f);
+  b.aspect = static_cast<float>(width) / static_cast<float>(height);
+  b.width = width;
+  b.height = height;
+  return b;
+}
+
 Vec3 Camera::ray_direction(float x, float y) const {
-  const Vec3 forward = glm::normalize(target - position);
-  const Vec3 right = glm::normalize(glm::cross(forward, up));
-  const Vec3 true_up = glm::cross(right, forward);
-  const float tan_half = std::tan(0.5f * vfov_deg * static_cast<float>(kPi) / 180.0f);
-  const float aspect = static_cast<float>(width) / static_cast<float>(height);
-  const float ndc_x = (2.0f * (x + 0.5f) / static_cast<float>(width) - 1.0f) * tan_half * aspect;
-  const float ndc_y = (1.0f - 2.0f * (y + 0.5f) / static_cast<float>(height)) * tan_half;
-  return glm::normalize(forward + ndc_x * right + ndc_y * true_up);
+  return ray_basis().direction(x, y);
 }
 
 }  // namespace penumbra

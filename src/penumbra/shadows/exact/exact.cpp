@@ -70,6 +70,120 @@ bool covers_square(const ClipperLib::Path& poly) {
   return true;
 }
 
+// Back-face culling, exactly. Let S be an ExactSolid: an opaque mesh M plus caps C such that
+// Z = M + C is a 2-cycle (no boundary). Z gives space off it an integer winding number w (0 far
+// away), and a segment crossing a triangle T of Z transversally changes w by +1 when it goes from
+// the side T's normal n_T = (v1 − v0) × (v2 − v0) points to onto the other (it "enters"), by −1
+// otherwise. From the receiver p, the triangles it sees from their positive side
+// (n_T·(p − v0) > 0) can only be entered by segments leaving p, those it sees from behind only
+// left.
+//
+// Claim: if w(q) = 0 at every light point q, no segment from p to the light meets a cap, and
+// w(p) ≤ 0, the light points blocked by M (segment p → q meets M) are, up to a set of measure zero,
+// those blocked by the triangles of M seen from their positive side; if w(p) ≥ 0, those seen from
+// behind.
+// Proof: drop the measure-zero set of q whose segment passes through an edge or vertex of Z or
+// lies in a triangle's plane; every other segment crosses Z transversally at finitely many points,
+// all on M (it misses the caps). Along p → q, w goes from w(p) to w(q) = 0 in steps of ±1. If the
+// segment crosses M but never enters, all its k ≥ 1 steps are −1 and 0 = w(p) − k, so w(p) ≥ 1:
+// impossible when w(p) ≤ 0. Hence every blocked q is blocked by an entered triangle, which p sees
+// from its positive side. Symmetrically for w(p) ≥ 0 with the −1 steps. The skipped triangles'
+// projections thus lie inside the kept ones' union up to measure zero, and the visible area V is
+// unchanged. Self-intersections, inward orientation, holes and inconsistent neighbours need no
+// special case: the caps make Z a cycle whatever M is. ∎
+// The premises are checked conservatively per pixel: the light's parallelogram outside S's box
+// (so w(q) = 0), the pyramid from p to the light missing every cap's box (every segment p → q lies
+// in the pyramid), and w(p) = 0 outside S's box or else counted along a ray (winding_number);
+// any doubt (a crossing within 1e-9 of an edge, a ray nearly in a triangle's plane) keeps every
+// triangle of S. One caveat outside the proof: project_polygon ignores what lies within kMinW
+// (1e-9 of the distance to the light) of p, culled or not; only a surface passing that close to p
+// — a thousand times closer than the shared ray offset — could make the two differ.
+enum class Cull : uint8_t { all, keep_positive, keep_negative, unknown };
+
+/// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle going against / along its normal,
+/// 0 when it misses, kUnsure when it passes within a relative 1e-9 of its boundary or plane.
+constexpr int kUnsure = 2;
+int signed_crossing(const DVec3& origin, const DVec3& seg, const DVec3& a, const DVec3& b,
+                    const DVec3& c) {
+  const DVec3 e1 = b - a, e2 = c - a;
+  const DVec3 pvec = glm::cross(seg, e2);
+  const double det = glm::dot(e1, pvec);
+  const double scale = glm::length(e1) * glm::length(e2) * glm::length(seg);
+  const DVec3 tvec = origin - a;
+  if (!(std::abs(det) > 1e-12 * scale)) {
+    // Nearly parallel: harmless unless the segment runs close to the triangle's plane.
+    const DVec3 n = glm::cross(e1, e2);
+    const double dist = std::abs(glm::dot(tvec, n)) / glm::length(n);
+    return dist > 1e-9 * glm::length(seg) ? 0 : kUnsure;
+  }
+  const double inv = 1.0 / det;
+  const double u = glm::dot(tvec, pvec) * inv;
+  const DVec3 qvec = glm::cross(tvec, e1);
+  const double v = glm::dot(seg, qvec) * inv;
+  const double t = glm::dot(e2, qvec) * inv;
+  constexpr double eps = 1e-9;
+  if (u < -eps || v < -eps || u + v > 1.0 + eps || t < -eps || t > 1.0 + eps) return 0;
+  if (u < eps || v < eps || u + v > 1.0 - eps || t < eps) return kUnsure;
+  return det > 0.0 ? 1 : -1;  // det = −seg·n: positive when the segment goes against n
+}
+
+/// The winding number of S at p, counted along a ray from p out of S's box. False when unsure.
+bool winding_number(const ExactScene& scene, uint32_t solid, const DVec3& p, int& winding) {
+  const ExactSolid& s = scene.solids()[solid];
+  // Any fixed direction works; this one has no simple relation to axis-aligned or grid geometry.
+  const DVec3 dir =
+      glm::normalize(DVec3(0.5773502691896258, 0.6180339887498949, 0.5339082750072306));
+  const double reach = glm::length(p - DVec3(s.box.center())) + s.box.diagonal();
+  const DVec3 seg = (2.0 * reach) * dir;
+  int crossings = 0;
+  bool sure = true;
+  for (const auto& cap : s.caps) {
+    const int c = signed_crossing(p, seg, cap[0], cap[1], cap[2]);
+    if (c == kUnsure) return false;
+    crossings += c;
+  }
+  const auto& occluders = scene.occluders();
+  scene.bvh().traverse(
+      [&](const ExactBvh::Node& n) { return sure && segment_meets_box(p, seg, n.lo, n.hi); },
+      [&](uint32_t prim) {
+        const ExactOccluder& o = occluders[prim];
+        if (o.solid != solid) return true;
+        const int c = signed_crossing(p, seg, o.v[0], o.v[1], o.v[2]);
+        if (c == kUnsure)
+          sure = false;
+        else
+          crossings += c;
+        return sure;
+      });
+  winding = -crossings;  // w(p) + Σ steps = w(far) = 0
+  return sure;
+}
+
+bool boxes_overlap(const Bounds3& a, const Bounds3& b) {
+  for (int i = 0; i < 3; ++i) {
+    const double pad =
+        1e-9 * (std::abs(a.lo[i]) + std::abs(a.hi[i]) + std::abs(b.lo[i]) + std::abs(b.hi[i]));
+    if (a.hi[i] + pad < b.lo[i] || b.hi[i] + pad < a.lo[i]) return false;
+  }
+  return true;
+}
+
+/// Which triangles of solid `s` the receiver p may skip for the light parallelogram `light_box`.
+Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds3& light_box,
+               const LightProjection& proj) {
+  const ExactSolid& solid = scene.solids()[s];
+  const Bounds3& box = solid.box;
+  if (boxes_overlap(box, light_box)) return Cull::all;  // w(q) = 0 not established
+  for (const Bounds3& cap : solid.cap_boxes)
+    if (box_meets_pyramid(proj, cap.lo, cap.hi)) return Cull::all;  // a segment may cross a cap
+  Bounds3 point;
+  point.extend(Vec3(p));
+  if (!boxes_overlap(box, point)) return Cull::keep_positive;  // outside the box: w(p) = 0
+  int w = 0;
+  if (!winding_number(scene, s, p, w)) return Cull::all;
+  return w <= 0 ? Cull::keep_positive : Cull::keep_negative;
+}
+
 ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
                                         const DVec3& light_pos) {
   ExactPointResult r;
@@ -129,26 +243,50 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   }
 
   const auto& occluders = scene.occluders();
-  ClipperLib::Paths opaque;
+  // Per solid, decided at its first candidate (most pixels meet few solids).
+  thread_local std::vector<Cull> cull;
+  cull.assign(scene.solids().size(), Cull::unknown);
+  Bounds3 light_box;
+  for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
+                        frame.corner + frame.edge_u + frame.edge_v})
+    light_box.extend(c);
+  const auto skipped = [&](const ExactOccluder& o) {
+    if (o.solid == ExactOccluder::kNotSolid) return false;
+    Cull& mode = cull[o.solid];
+    if (mode == Cull::unknown) mode = cull_mode(scene, o.solid, p, light_box, proj);
+    if (mode == Cull::all) return false;
+    const double side = glm::dot(glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]), p - o.v[0]);
+    return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);
+  };
+  // Opaque polygons go to a per-thread pool whose paths keep their capacity from pixel to pixel:
+  // no allocation per polygon.
+  thread_local ClipperLib::Paths pool;
+  size_t opaque_count = 0;
   std::vector<SemiPolygon> semi;
   ClipperLib::Path poly;
   bool umbra = false;
   const auto add = [&](const ExactOccluder& o, const DVec3* vertices, int count) {
-    if (!project_polygon(proj, vertices, count, poly)) return;
-    ++r.polygons;
     if (o.transmittance > 0.0) {
+      if (!project_polygon(proj, vertices, count, poly)) return;
+      ++r.polygons;
       semi.push_back({poly, o.transmittance});
-    } else {
-      umbra = umbra || covers_square(poly);
-      opaque.push_back(poly);
+      return;
     }
+    if (pool.size() == opaque_count) pool.emplace_back();
+    ClipperLib::Path& out = pool[opaque_count];
+    if (!project_polygon(proj, vertices, count, out)) return;
+    ++r.polygons;
+    ++opaque_count;
+    umbra = umbra || covers_square(out);
   };
   scene.bvh().traverse(
       [&](const ExactBvh::Node& n) { return box_meets_pyramid(proj, n.lo, n.hi); },
       [&](uint32_t prim) {
         ++r.candidates;
         const ExactOccluder& o = occluders[prim];
-        if (!o.cut) {
+        if (skipped(o)) {
+          ++r.culled;
+        } else if (!o.cut) {
           add(o, o.v, 3);
         } else {
           for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
@@ -163,10 +301,18 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.visible_rgb = DVec3(0.0);
     return r;
   }
-  if (opaque.empty() && semi.empty()) return r;
+  if (opaque_count == 0 && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
-  const std::vector<LightRegion> regions = visible_regions(outline, opaque, semi);
+  if (opaque_count == 1 && semi.empty() && !outline.round && !light.textured()) {
+    // One convex polygon, already clipped to the uv square that is the whole light: no boolean.
+    const double v = 1.0 - std::abs(ClipperLib::Area(pool[0])) / outline.area;
+    r.visible = std::clamp(v, 0.0, 1.0);
+    r.visible_rgb = DVec3(r.visible);
+    return r;
+  }
+  const std::vector<LightRegion> regions =
+      visible_regions(outline, std::span<const ClipperLib::Path>(pool.data(), opaque_count), semi);
   double visible_area = 0.0;
   for (const LightRegion& region : regions)
     visible_area += region.weight * paths_area(region.paths);
@@ -211,14 +357,14 @@ class ExactMethod final : public ShadowMethod {
     vis.lit = Image<float>(g.width, g.height, 1.0f);
 
     ScopedStage bvh_stage(vis.times, "bvh");
-    const ExactScene scene(ctx.scene, options_.leaf_size);
+    const ExactScene scene(ctx.scene, options_.leaf_size, options_.cull_back_faces);
     const ExactLight light(ctx.scene, ctx.light, options_.disk_segments);
     bvh_stage.stop();
     if (light.textured()) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
 
     // Per-row statistics, summed in row order afterwards: the counters never depend on threads.
     struct RowStats {
-      double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0;
+      double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
       double lit = 0, umbra = 0, penumbra = 0, degenerate = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
@@ -237,6 +383,7 @@ class ExactMethod final : public ShadowMethod {
           s.candidates += r.candidates;
           s.candidates_max = std::max(s.candidates_max, static_cast<double>(r.candidates));
           s.polygons += r.polygons;
+          s.culled += r.culled;
           s.degenerate += r.degenerate ? 1 : 0;
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
@@ -256,6 +403,7 @@ class ExactMethod final : public ShadowMethod {
       t.candidates += s.candidates;
       t.candidates_max = std::max(t.candidates_max, s.candidates_max);
       t.polygons += s.polygons;
+      t.culled += s.culled;
       t.lit += s.lit;
       t.umbra += s.umbra;
       t.penumbra += s.penumbra;
@@ -267,6 +415,8 @@ class ExactMethod final : public ShadowMethod {
     c["candidates_per_pixel"] = t.pixels > 0 ? t.candidates / t.pixels : 0.0;
     c["candidates_max"] = t.candidates_max;
     c["projected_polygons"] = t.polygons;
+    c["culled_back_faces"] = t.culled;
+    c["closed_solids"] = static_cast<double>(scene.solids().size());
     c["pixels_lit"] = t.lit;
     c["pixels_umbra"] = t.umbra;
     c["pixels_penumbra"] = t.penumbra;
@@ -312,11 +462,19 @@ void register_exact(MethodRegistry& registry) {
        {},
        1,
        64},
+      {"cull_back_faces",
+       OptionType::boolean,
+       "true",
+       "skip the triangles of closed opaque meshes that cannot change the union (exact)",
+       {},
+       0,
+       1},
   };
   info.create = [](const MethodOptions& o) {
     ExactOptions options;
     options.disk_segments = o.get_int("disk_segments");
     options.leaf_size = o.get_int("leaf_size");
+    options.cull_back_faces = o.get_bool("cull_back_faces");
     return make_exact_method(options);
   };
   registry.add(std::move(info));

@@ -9,6 +9,7 @@
 // It shares no candidate search with any method it judges (its own BVH, exact/bvh.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -24,6 +25,9 @@ struct ExactOptions {
   /// 1.9e-5 for 256; see make_light_outline).
   int disk_segments = 256;
   int leaf_size = 4;  // BVH leaf size, triangles
+  /// Skip the triangles of opaque meshes that cannot change the union (exact: see
+  /// ExactScene::solids and cull_mode in exact.cpp). False projects every triangle.
+  bool cull_back_faces = true;
 };
 
 /// One shadow-casting triangle, in double precision (the float vertices convert exactly).
@@ -36,7 +40,28 @@ struct ExactOccluder {
   bool cut = false;
   uint32_t piece_first = 0;
   uint32_t piece_count = 0;
+  /// Index into ExactScene::solids() when the triangle belongs to an opaque uncut mesh, else
+  /// kNotSolid.
+  uint32_t solid = kNotSolid;
+  static constexpr uint32_t kNotSolid = 0xFFFFFFFFu;
 };
+
+/// An opaque, uncut mesh made a closed surface: its triangles plus virtual caps — fans over the
+/// closed walks of its boundary (the directed edges whose copies do not cancel: holes, and edges of
+/// inconsistently oriented or non-manifold neighbours), oriented so that mesh + caps is a 2-cycle.
+/// That cycle gives space an integer winding number w (0 far away) that every transversal crossing
+/// changes by ±1, which is what lets half of the mesh's triangles be skipped wherever the pyramid
+/// from the receiver to the light misses the caps (cull_mode in exact.cpp). A closed manifold has
+/// no caps. The caps are never projected: they exist for the winding number and the cap test.
+struct ExactSolid {
+  Bounds3 box;  // of the mesh's vertices (caps included)
+  uint32_t mesh = 0;
+  std::vector<std::array<DVec3, 3>> caps;
+  std::vector<Bounds3> cap_boxes;  // one per boundary walk
+};
+/// Meshes needing more cap triangles than this (large open surfaces) are not made solids: their
+/// caps would be met by most pyramids and would cost every winding-number ray.
+inline constexpr size_t kMaxCapTriangles = 1024;
 
 /// A convex part of an alpha-textured triangle (at most 7 vertices: triangle ∩ texel-run
 /// rectangle) where the nearest-texel mask is opaque: piece_vertices()[first, first + count).
@@ -50,19 +75,22 @@ struct ExactPiece {
 /// and the BVH over them.
 class ExactScene {
  public:
-  explicit ExactScene(const Scene& scene, int leaf_size = 4);
+  explicit ExactScene(const Scene& scene, int leaf_size = 4, bool cull_back_faces = true);
 
   const Scene& scene() const { return *scene_; }
   const std::vector<ExactOccluder>& occluders() const { return occluders_; }
   const std::vector<ExactPiece>& pieces() const { return pieces_; }
   const std::vector<DVec3>& piece_vertices() const { return piece_vertices_; }
   const ExactBvh& bvh() const { return bvh_; }
+  /// The opaque meshes whose back faces may be culled (none when culling is off).
+  const std::vector<ExactSolid>& solids() const { return solids_; }
 
  private:
   const Scene* scene_;
   std::vector<ExactOccluder> occluders_;
   std::vector<ExactPiece> pieces_;
   std::vector<DVec3> piece_vertices_;
+  std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
 };
 
@@ -102,6 +130,7 @@ struct ExactPointResult {
   uint32_t candidates =
       0;  // occluder triangles whose box met the pyramid (the segment: point lights)
   uint32_t polygons = 0;  // non-empty projected occluder polygons
+  uint32_t culled = 0;    // candidates of closed meshes skipped as unable to change the union
   /// The receiver lies in the light's plane (or is not finite): the projection is undefined and
   /// the documented fallback V = 1 ("light touching geometry") was taken.
   bool degenerate = false;

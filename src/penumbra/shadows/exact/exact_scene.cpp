@@ -2,10 +2,13 @@
 // including the decomposition of alpha-textured triangles into their opaque pieces.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <unordered_map>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/rng.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
 
 namespace penumbra {
@@ -184,9 +187,110 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
   return out;
 }
 
+/// The caps that close `mesh` into a 2-cycle (ExactSolid). Vertices are welded by bit-identical
+/// position (as MeshTopology does); every directed edge a→b counts +1 on the undirected edge and
+/// b→a −1, and an edge left with net n ≠ 0 is |n| boundary edges in the direction of its sign. At
+/// every vertex as many boundary edges leave as arrive (each triangle is a cycle), so they split
+/// into closed walks; the reversed fan over each walk has minus that walk as its boundary, so
+/// mesh + fans has none. False when more than kMaxCapTriangles would be needed.
+bool make_caps(const Mesh& mesh, ExactSolid& solid) {
+  struct Key {
+    uint32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return static_cast<size_t>(
+          splitmix64((uint64_t{k.x} << 32 | k.y) ^ (uint64_t{k.z} * 0x9e3779b97f4a7c15ull)));
+    }
+  };
+  const auto key_of = [](Vec3 v) {
+    Key k{};
+    for (int i = 0; i < 3; ++i) {
+      const float c = v[i] == 0.0f ? 0.0f : v[i];  // -0 and +0 weld
+      uint32_t bits = 0;
+      std::memcpy(&bits, &c, sizeof bits);
+      (i == 0 ? k.x : i == 1 ? k.y : k.z) = bits;
+    }
+    return k;
+  };
+  std::unordered_map<Key, uint32_t, KeyHash> ids;
+  std::vector<uint32_t> weld(mesh.positions.size());
+  std::vector<Vec3> welded;
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const auto [it, added] =
+        ids.try_emplace(key_of(mesh.positions[i]), static_cast<uint32_t>(welded.size()));
+    if (added) welded.push_back(mesh.positions[i]);
+    weld[i] = it->second;
+  }
+  std::unordered_map<uint64_t, int> net;
+  for (const Triangle& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = weld[t.v[e]], b = weld[t.v[(e + 1) % 3]];
+      if (a == b) continue;
+      net[uint64_t{std::min(a, b)} << 32 | std::max(a, b)] += a < b ? 1 : -1;
+    }
+  std::unordered_map<uint32_t, std::vector<uint32_t>> out;  // boundary edges leaving a vertex
+  size_t boundary = 0;
+  for (const auto& [edge, n] : net) {
+    const uint32_t lo = static_cast<uint32_t>(edge >> 32), hi = static_cast<uint32_t>(edge);
+    for (int k = 0; k < std::abs(n); ++k) {
+      if (n > 0)
+        out[lo].push_back(hi);
+      else
+        out[hi].push_back(lo);
+      ++boundary;
+    }
+  }
+  if (boundary > kMaxCapTriangles) return false;
+  // Walks in a deterministic order (by start vertex).
+  std::vector<uint32_t> starts;
+  for (const auto& [v, list] : out) starts.push_back(v);
+  std::sort(starts.begin(), starts.end());
+  for (auto& [v, list] : out) std::sort(list.begin(), list.end());
+  for (const uint32_t start : starts) {
+    while (!out[start].empty()) {
+      std::vector<uint32_t> walk{start};
+      uint32_t at = out[start].back();
+      out[start].pop_back();
+      while (at != start) {
+        walk.push_back(at);
+        std::vector<uint32_t>& next = out[at];
+        if (next.empty()) return false;  // cannot happen for a sum of cycles
+        const uint32_t to = next.back();
+        next.pop_back();
+        at = to;
+      }
+      Bounds3 box;
+      for (const uint32_t v : walk) box.extend(welded[v]);
+      for (size_t i = 1; i + 1 < walk.size(); ++i)
+        solid.caps.push_back(
+            {DVec3(welded[walk[0]]), DVec3(welded[walk[i + 1]]), DVec3(welded[walk[i]])});
+      if (walk.size() >= 3) solid.cap_boxes.push_back(box);
+    }
+  }
+  return solid.caps.size() <= kMaxCapTriangles;
+}
+
 }  // namespace
 
-ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
+ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) : scene_(&scene) {
+  // Opaque uncut meshes: candidates for back-face culling, closed by caps where they are open.
+  std::vector<uint32_t> solid_of_mesh(scene.meshes.size(), ExactOccluder::kNotSolid);
+  if (cull_back_faces) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+      const Mesh& mesh = scene.meshes[m];
+      const Material& mat = scene.material_of(mesh);
+      if (!mesh.casts_shadows || mat.transmittance > 0.0f || mat.alpha_texture >= 0) continue;
+      ExactSolid solid;
+      if (!make_caps(mesh, solid)) continue;
+      solid.mesh = static_cast<uint32_t>(m);
+      for (const Vec3& v : mesh.positions) solid.box.extend(v);
+      solid_of_mesh[m] = static_cast<uint32_t>(solids_.size());
+      solids_.push_back(solid);
+    }
+  }
+
   struct Item {
     uint32_t mesh, tri;
   };
@@ -237,6 +341,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size) : scene_(&scene) {
       box.extend(mesh.vertex(items[k].tri, i));
     }
     o.transmittance = std::max(0.0, static_cast<double>(mat.transmittance));
+    o.solid = solid_of_mesh[items[k].mesh];
     if (mat.alpha_texture >= 0 && !alpha[k].whole) {
       if (alpha[k].pieces.empty()) continue;  // all holes
       o.cut = true;

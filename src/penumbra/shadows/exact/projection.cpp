@@ -243,44 +243,47 @@ double paths_area(const Paths& paths) {
   return a;
 }
 
-Paths cancel_shared_edges(const Paths& polygons) {
+Paths cancel_shared_edges(std::span<const Path> polygons) {
   // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
   // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
-  // time). Points pack into 64 bits since coordinates are in [0, 2^30).
+  // time). Points pack into 64 bits since coordinates are in [0, 2^30). The table is reused per
+  // thread and only the slots a call used are reset, so a call costs its edges, not the table.
   const auto less = [](const IntPoint& a, const IntPoint& b) {
     return a.X < b.X || (a.X == b.X && a.Y < b.Y);
   };
+  // 24-byte slots keyed by the packed end points (coordinates are in [0, 2^30), so X·2^32 + Y is
+  // exact and 0 is never a valid pair of distinct points: it marks an empty slot).
   struct Slot {
-    IntPoint lo, hi;
-    int net = 0;
-    bool used = false;
+    uint64_t lo = 0, hi = 0;
+    int64_t net = 0;
   };
   size_t count = 0;
   for (const Path& p : polygons) count += p.size();
   size_t capacity = 16;
   while (capacity < 2 * count) capacity *= 2;
-  thread_local std::vector<Slot> table;  // reused: no allocation per pixel
-  table.assign(capacity, Slot{});
+  thread_local std::vector<Slot> table;
+  thread_local std::vector<size_t> used;
+  if (table.size() < capacity) table.assign(capacity, Slot{});
+  used.clear();
   const auto pack = [](const IntPoint& q) {
-    return (static_cast<uint64_t>(q.X) << 32) ^ static_cast<uint64_t>(q.Y);
+    return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
   };
   for (const Path& p : polygons) {
     for (size_t i = 0; i < p.size(); ++i) {
       const IntPoint& a = p[i];
       const IntPoint& b = p[(i + 1) % p.size()];
       if (a == b) continue;
-      const bool forward = less(a, b);
-      const IntPoint& lo = forward ? a : b;
-      const IntPoint& hi = forward ? b : a;
-      size_t h = static_cast<size_t>(splitmix(pack(lo) * 0x9e3779b97f4a7c15ull ^ pack(hi))) &
-                 (capacity - 1);
-      while (table[h].used && !(table[h].lo == lo && table[h].hi == hi))
+      const uint64_t ka = pack(a), kb = pack(b);
+      const bool forward = ka < kb;  // the same order as `less` on (X, Y)
+      const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
+      size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
+      while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
         h = (h + 1) & (capacity - 1);
       Slot& slot = table[h];
-      if (!slot.used) {
-        slot.used = true;
+      if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
         slot.lo = lo;
         slot.hi = hi;
+        used.push_back(h);
       }
       slot.net += forward ? 1 : -1;
     }
@@ -289,10 +292,17 @@ Paths cancel_shared_edges(const Paths& polygons) {
   struct Directed {
     IntPoint from, to;
   };
-  std::vector<Directed> kept;
-  for (const Slot& slot : table) {
-    for (int k = 0; k < std::abs(slot.net); ++k)
-      kept.push_back(slot.net > 0 ? Directed{slot.lo, slot.hi} : Directed{slot.hi, slot.lo});
+  thread_local std::vector<Directed> kept;
+  kept.clear();
+  const auto unpack = [](uint64_t k) {
+    return IntPoint(static_cast<cInt>(k >> 32), static_cast<cInt>(k & 0xFFFFFFFFull));
+  };
+  for (const size_t h : used) {
+    Slot& slot = table[h];
+    const IntPoint lo = unpack(slot.lo), hi = unpack(slot.hi);
+    for (int64_t k = 0; k < std::abs(slot.net); ++k)
+      kept.push_back(slot.net > 0 ? Directed{lo, hi} : Directed{hi, lo});
+    slot = Slot{};
   }
   std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
     if (x.from != y.from) return less(x.from, y.from);
@@ -302,7 +312,8 @@ Paths cancel_shared_edges(const Paths& polygons) {
   // and a cancelled pair removes one of each), so a walk can always leave any vertex it entered
   // and must end where it started. Edges leaving one vertex are consumed in order via a cursor at
   // the first edge of their group.
-  std::vector<size_t> cursor(kept.size());
+  thread_local std::vector<size_t> cursor;
+  cursor.resize(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
   const auto group_of = [&](const IntPoint& v) {
     return static_cast<size_t>(
@@ -366,7 +377,7 @@ Paths union_polygons(const Paths& polygons, size_t group) {
   return level.empty() ? Paths{} : std::move(level[0]);
 }
 
-std::vector<LightRegion> visible_regions(const LightOutline& outline, const Paths& opaque,
+std::vector<LightRegion> visible_regions(const LightOutline& outline, std::span<const Path> opaque,
                                          const std::vector<SemiPolygon>& semi) {
   std::vector<LightRegion> regions(1);
   if (opaque.empty()) {
@@ -374,7 +385,8 @@ std::vector<LightRegion> visible_regions(const LightOutline& outline, const Path
   } else {
     ClipperLib::Clipper c;
     c.AddPath(outline.path, ClipperLib::ptSubject, true);
-    const Paths loops = opaque.size() > 1 ? cancel_shared_edges(opaque) : opaque;
+    const Paths loops =
+        opaque.size() > 1 ? cancel_shared_edges(opaque) : Paths(opaque.begin(), opaque.end());
     if (loops.size() <= kUnionGroup) {
       c.AddPaths(loops, ClipperLib::ptClip, true);
     } else {

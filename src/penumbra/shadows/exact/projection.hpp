@@ -6,6 +6,7 @@
 
 #include <array>
 #include <polyclipping/clipper.hpp>
+#include <span>
 #include <vector>
 
 #include "penumbra/core/math.hpp"
@@ -95,7 +96,7 @@ struct LightRegion {
 /// sphere's hundreds of triangles become two silhouette loops: Clipper's non-zero union of the
 /// loops is the union of the polygons (exactly: winding numbers add, and a cancelled pair
 /// contributes nothing), at the cost of its outlines only.
-ClipperLib::Paths cancel_shared_edges(const ClipperLib::Paths& polygons);
+ClipperLib::Paths cancel_shared_edges(std::span<const ClipperLib::Path> polygons);
 
 /// Union (non-zero fill) of positively oriented polygons by pairwise reduction: groups of `group`
 /// consecutive polygons are united, then the partial unions pairwise, so each pass sees the
@@ -118,7 +119,7 @@ inline constexpr size_t kUnionGroup = 32;
 /// Cost: one Clipper intersection per (region, level), i.e. Π over groups of (1 + depth) operations
 /// on outlines; with one transmittance (the usual case) 1 + depth of the semi-opaque overlap.
 std::vector<LightRegion> visible_regions(const LightOutline& outline,
-                                         const ClipperLib::Paths& opaque,
+                                         std::span<const ClipperLib::Path> opaque,
                                          const std::vector<SemiPolygon>& semi);
 
 /// Signed area of paths (Clipper units²): holes subtract.
