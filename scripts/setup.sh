@@ -8,6 +8,9 @@ PACKAGES=(
   libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
   libcli11-dev nlohmann-json3-dev libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
+  # The Vulkan backend: loader + headers, the GLSL compiler, lavapipe (a CPU Vulkan 1.3 device,
+  # so the GPU tests run everywhere) and the validation layer.
+  libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
 )
 
 missing=()
