@@ -315,6 +315,11 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     f12.pNext = &f13;
     VkPhysicalDeviceFeatures2 f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f.features.shaderInt64 = VK_TRUE;
+    VkPhysicalDeviceFeatures have;
+    vkGetPhysicalDeviceFeatures(physical_, &have);
+    // Optional: the depth-map lookups run in the CPU's double precision where it is available.
+    f.features.shaderFloat64 = have.shaderFloat64;
+    float64_ = have.shaderFloat64 == VK_TRUE;
     f.pNext = &f12;
     VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     di.pNext = &f;

@@ -82,6 +82,8 @@ class VulkanContext {
   const std::string& device_name() const { return info_.name; }
   const DeviceInfo& info() const { return info_; }
   double timestamp_period_ns() const { return timestamp_period_ns_; }
+  /// Whether shaders may use double precision (shaderFloat64).
+  bool has_float64() const { return float64_; }
   /// Validation messages (warnings and errors) reported so far; 0 without the layer.
   uint32_t validation_messages() const { return validation_messages_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -131,6 +133,7 @@ class VulkanContext {
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;
   double timestamp_period_ns_ = 1.0;
+  bool float64_ = false;
   uint32_t validation_messages_ = 0;
 };
 

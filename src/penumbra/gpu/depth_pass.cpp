@@ -14,13 +14,22 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
 struct DepthPush {
   VkDeviceAddress vertices;
-  uint64_t pad;      // vec4 members start 16-byte aligned
-  float eye[4];      // xyz, near
-  float right[4];    // xyz, tan_half_x
-  float up[4];       // xyz, tan_half_y
-  float forward[4];  // xyz, unused
+  VkDeviceAddress view;  // depth_map_f64.frag: View (the vertex shader skips these 8 bytes)
+  float eye[4];          // xyz, near
+  float right[4];        // xyz, tan_half_x
+  float up[4];           // xyz, tan_half_y
+  float forward[4];      // xyz, unused
 };
 static_assert(sizeof(DepthPush) == 80);
+
+// depth_map_f64.frag's View (scalar layout).
+struct ViewF64 {
+  double eye[3], right[3], up[3], forward[3];
+  double tan_half_x, tan_half_y, resolution;
+};
+
+constexpr VkShaderStageFlags kPushStages =
+    VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
 VkShaderModule make_module(VkDevice device, std::span<const uint32_t> code) {
   VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -52,14 +61,16 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
 }  // namespace
 
 DepthPipeline::DepthPipeline(VulkanContext& ctx) : device_(ctx.device()) {
-  const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DepthPush)};
+  const VkPushConstantRange range{kPushStages, 0, sizeof(DepthPush)};
   VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   li.pushConstantRangeCount = 1;
   li.pPushConstantRanges = &range;
   check(vkCreatePipelineLayout(device_, &li, nullptr, &layout_), "vkCreatePipelineLayout");
 
   VkShaderModule vert = make_module(device_, spirv(Shader::depth_map_vert));
-  VkShaderModule frag = make_module(device_, spirv(Shader::depth_map_frag));
+  float64_ = ctx.has_float64();
+  VkShaderModule frag =
+      make_module(device_, spirv(float64_ ? Shader::depth_map_f64_frag : Shader::depth_map_frag));
   VkPipelineShaderStageCreateInfo stages[2] = {
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
@@ -230,9 +241,9 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   const VkRect2D scissor{{0, 0}, {static_cast<uint32_t>(res), static_cast<uint32_t>(res)}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
-  // FaceSelect::front keeps triangles whose normal cross(p1−p0, p2−p0) faces the light: those
-  // wind clockwise in the y-down framebuffer.
-  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_CLOCKWISE);
+  // FaceSelect::front keeps triangles whose normal cross(p1−p0, p2−p0) faces the light: after the
+  // y flip of depth_map.vert those have the winding Vulkan calls counter-clockwise.
+  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
   vkCmdSetCullMode(cmd, spec.faces == FaceSelect::front  ? VK_CULL_MODE_BACK_BIT
                         : spec.faces == FaceSelect::back ? VK_CULL_MODE_FRONT_BIT
                                                          : VK_CULL_MODE_NONE);
@@ -240,6 +251,16 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   const Projection& pr = out.view.proj;
   DepthPush push{};
   push.vertices = vbuf.address();
+  if (pipe.float64()) {
+    ViewF64 v{};
+    for (int c = 0; c < 3; ++c)
+      v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
+      v.forward[c] = pr.forward[c];
+    v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
+    v.resolution = res;
+    keep.push_back(ctx.upload(&v, sizeof(v)));
+    push.view = keep.back().address();
+  }
   const float near = static_cast<float>(out.view.near);
   auto put = [](float* d, const DVec3& v, double w) {
     d[0] = static_cast<float>(v.x), d[1] = static_cast<float>(v.y), d[2] = static_cast<float>(v.z);
@@ -249,7 +270,7 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   put(push.right, pr.right, pr.tan_half_x);
   put(push.up, pr.up, pr.tan_half_y);
   put(push.forward, pr.forward, 0.0);
-  vkCmdPushConstants(cmd, pipe.layout(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+  vkCmdPushConstants(cmd, pipe.layout(), kPushStages, 0, sizeof(push), &push);
   if (out.triangles) vkCmdDraw(cmd, static_cast<uint32_t>(out.triangles * 3), 1, 0, 0);
   vkCmdEndRendering(cmd);
   image_barrier(cmd, color.image(), VK_IMAGE_ASPECT_COLOR_BIT,

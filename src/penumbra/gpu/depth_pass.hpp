@@ -14,7 +14,9 @@
 
 namespace penumbra::gpu {
 
-/// The graphics pipeline of the depth pass (cull mode set per draw).
+/// The graphics pipeline of the depth pass (cull mode set per draw). Where the device has
+/// shaderFloat64 the fragment shader recomputes each texel's depth in double at the texel centre,
+/// as the CPU rasterizer does, so the two maps agree to the float.
 class DepthPipeline {
  public:
   explicit DepthPipeline(VulkanContext& ctx);
@@ -23,9 +25,12 @@ class DepthPipeline {
   DepthPipeline& operator=(const DepthPipeline&) = delete;
   VkPipeline handle() const { return pipeline_; }
   VkPipelineLayout layout() const { return layout_; }
+  /// Depth recomputed in double per texel (depth_map_f64.frag).
+  bool float64() const { return float64_; }
 
  private:
   VkDevice device_;
+  bool float64_ = false;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };

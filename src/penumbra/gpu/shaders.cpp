@@ -38,11 +38,18 @@ const uint32_t kDepthMin[] = {
 const uint32_t kShadowLookup[] = {
 #include "shadow_lookup.comp.inc"
 };
+const uint32_t kShadowLookupF64[] = {
+#include "shadow_lookup_f64.comp.inc"
+};
 const uint32_t kDepthMapVert[] = {
 #include "depth_map.vert.inc"
 };
 const uint32_t kDepthMapFrag[] = {
 #include "depth_map.frag.inc"
+};
+
+const uint32_t kDepthMapF64Frag[] = {
+#include "depth_map_f64.frag.inc"
 };
 
 }  // namespace
@@ -71,10 +78,14 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDepthMin;
     case Shader::shadow_lookup:
       return kShadowLookup;
+    case Shader::shadow_lookup_f64:
+      return kShadowLookupF64;
     case Shader::depth_map_vert:
       return kDepthMapVert;
     case Shader::depth_map_frag:
       return kDepthMapFrag;
+    case Shader::depth_map_f64_frag:
+      return kDepthMapF64Frag;
     case Shader::count_:
       break;
   }

@@ -21,8 +21,10 @@ enum class Shader {
   gears_raster,
   depth_min,
   shadow_lookup,
+  shadow_lookup_f64,
   depth_map_vert,
   depth_map_frag,
+  depth_map_f64_frag,
   count_
 };
 

@@ -2,6 +2,7 @@
 // the lookup/filter by one compute shader over the G-buffer's active pixels
 // (shaders/shadow_lookup.comp) — the CPU methods' settings, bias and filters.
 #include <chrono>
+#include <cstddef>
 #include <deque>
 
 #include "penumbra/core/error.hpp"
@@ -30,7 +31,11 @@ struct LookupParams {
   float light_width;
   int32_t blocker_samples, pcf_samples;
   float max_radius;
+  // The double copies (shadow_lookup_f64.comp).
+  double eye_d[3], right_d[3], up_d[3], forward_d[3];
+  double tan_half_x_d, tan_half_y_d, texel_tan_d, bias_d, slope_bias_d, light_width_d, max_radius_d;
 };
+static_assert(offsetof(LookupParams, eye_d) == 96);
 
 struct LookupPush {
   VkDeviceAddress params, points, map, min_depth, vis;
@@ -42,8 +47,8 @@ struct MinPush {
   uint32_t n;
 };
 
-void put3(float* d, const DVec3& v) {
-  d[0] = static_cast<float>(v.x), d[1] = static_cast<float>(v.y), d[2] = static_cast<float>(v.z);
+void put3(float* f, double* d, const DVec3& v) {
+  for (int c = 0; c < 3; ++c) f[c] = static_cast<float>(v[c]), d[c] = v[c];
 }
 
 class DepthMapVk final : public ShadowMethod {
@@ -106,10 +111,10 @@ class DepthMapVk final : public ShadowMethod {
     }
     LookupParams prm{};
     const Projection& pr = map.view.proj;
-    put3(prm.eye, pr.eye);
-    put3(prm.right, pr.right);
-    put3(prm.up, pr.up);
-    put3(prm.forward, pr.forward);
+    put3(prm.eye, prm.eye_d, pr.eye);
+    put3(prm.right, prm.right_d, pr.right);
+    put3(prm.up, prm.up_d, pr.up);
+    put3(prm.forward, prm.forward_d, pr.forward);
     prm.tan_half_x = static_cast<float>(pr.tan_half_x);
     prm.tan_half_y = static_cast<float>(pr.tan_half_y);
     prm.texel_tan = static_cast<float>(map.view.texel_tan);
@@ -123,9 +128,15 @@ class DepthMapVk final : public ShadowMethod {
     prm.blocker_samples = blocker_;
     prm.pcf_samples = pcf_samples_;
     prm.max_radius = static_cast<float>(max_radius_);
+    prm.tan_half_x_d = pr.tan_half_x, prm.tan_half_y_d = pr.tan_half_y;
+    prm.texel_tan_d = map.view.texel_tan;
+    prm.bias_d = settings_.bias, prm.slope_bias_d = settings_.slope_bias;
+    prm.light_width_d = light_size_ > 0.0 ? light_size_ : pcss_light_width(ctx.light);
+    prm.max_radius_d = max_radius_;
     keep.push_back(vk.upload(&prm, sizeof(prm)));
     const uint32_t n = static_cast<uint32_t>(active.size());
-    cl.dispatch(backend_.programs().get(Shader::shadow_lookup),
+    const Shader lookup = vk.has_float64() ? Shader::shadow_lookup_f64 : Shader::shadow_lookup;
+    cl.dispatch(backend_.programs().get(lookup),
                 LookupPush{keep.back().address(), point_buf.address(), map.depth.address(),
                            min_buf.address(), vis_buf.address(), n},
                 n);

@@ -17,6 +17,7 @@ layout(push_constant) uniform Push {
 } pc;
 
 layout(location = 0) out float view_depth;
+layout(location = 1) flat out uint triangle;  // for depth_map_f64.frag (no Geometry capability)
 
 void main() {
   const vec3 rel = pc.vertices.v[gl_VertexIndex].xyz - pc.eye.xyz;
@@ -24,6 +25,7 @@ void main() {
   const float y = dot(rel, pc.up.xyz) / pc.up.w;
   const float w = dot(rel, pc.forward.xyz);
   view_depth = w;
+  triangle = uint(gl_VertexIndex) / 3u;
   // Screen y grows downward on the CPU (row 0 at the top, y_ndc = +1): Vulkan's framebuffer row 0
   // is at y_ndc = −1, hence −y.
   gl_Position = vec4(x, -y, pc.eye.w, w);
