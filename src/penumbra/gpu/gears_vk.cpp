@@ -7,8 +7,8 @@
 //          begin/end per cell (gears_ranges), per-pixel edge-plane rasterization onto the k×k
 //          bitmask, one 32-bit word per row (gears_raster);
 //   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
-// Two submissions per side of the light plane: the pair count is read back between them to size
-// the pair buffers.
+// Three submissions per side of the light plane: the pair count is read back to size the pair
+// buffers, and the longest cell to size the rasterization's chunks.
 #include <bit>
 #include <chrono>
 #include <deque>
@@ -17,6 +17,7 @@
 #include "penumbra/gpu/backend.hpp"
 #include "penumbra/gpu/sort.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 
@@ -40,28 +41,39 @@ struct GridCameraGpu {
 static_assert(sizeof(GridCameraGpu) == 64 + 128);
 
 struct CellsPush {
-  VkDeviceAddress cam, pix, cell;
+  VkDeviceAddress cam, pix, cell, cell_max_z;
   uint32_t n;
 };
 struct CountPush {
-  VkDeviceAddress cam, tris, counts, rects, overflow;
+  VkDeviceAddress cam, tris, counts, rects, overflow, cell_max_z, zmin;
   uint32_t n;
 };
 struct WritePush {
-  VkDeviceAddress rects, offsets, keys, vals;
+  VkDeviceAddress rects, offsets, keys, vals, cell_max_z, zmin;
   uint32_t n, res_x;
+  float light_max_z;
 };
 struct RangesPush {
   VkDeviceAddress keys, begin, end;
+  uint32_t n;
+};
+struct LongestPush {
+  VkDeviceAddress begin, end, longest;
   uint32_t n;
 };
 struct RasterPush {
   VkDeviceAddress pix, tris, cell, begin, end, vals, rows_out, emit_rows;
   uint32_t n;
   int32_t k;
+  uint32_t first, chunk;  // this dispatch's part of each cell's list
   float uv_lo[2], uv_hi[2];
+  VkDeviceAddress alpha, texels, samples;
 };
-static_assert(sizeof(RasterPush) == 88);
+static_assert(sizeof(RasterPush) == 120);
+
+// Triangles of a cell one rasterization dispatch walks: × 32 rows below llvmpipe's
+// 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
+constexpr uint32_t kRasterChunk = 2000;
 
 void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
@@ -132,13 +144,39 @@ class GearsVk final : public ShadowMethod {
       }
       push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
     }
-    std::vector<float> tris;
+    // Occluders in light space, and for alpha-tested ones the texture to test per sample.
+    std::vector<float> tris, alpha;
+    std::vector<uint32_t> texels;
+    std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
     for (const Mesh& mesh : ctx.scene.meshes) {
       if (!mesh.casts_shadows) continue;
-      if (!ctx.scene.material_of(mesh).is_opaque())
+      const Material& mat = ctx.scene.material_of(mesh);
+      if (mat.transmittance > 0.0f)
         throw Error("gears on vulkan: semi-opaque occluders are not supported (use --backend cpu)");
-      for (size_t t = 0; t < mesh.triangle_count(); ++t)
+      const Texture* tex =
+          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
+      float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      if (tex) {
+        int& offset = texel_offset[mat.alpha_texture];
+        if (offset < 0) {
+          offset = static_cast<int>(texels.size());
+          for (int y = 0; y < tex->height; ++y)
+            for (int x = 0; x < tex->width; ++x)
+              texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
+        }
+        header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
+        header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
+        header[3] = 1.0f;
+      }
+      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         for (int c = 0; c < 3; ++c) push4(tris, space.to_light(mesh.vertex(t, c)));
+        alpha.insert(alpha.end(), header, header + 4);
+        Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
+        if (tex && !mesh.uvs.empty())
+          for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
+        alpha.insert(alpha.end(),
+                     {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y, 0.0f, 0.0f});
+      }
     }
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
     // Light corners in light space, for the extrusion.
@@ -168,10 +206,16 @@ class GearsVk final : public ShadowMethod {
     const Buffer pix_buf = vk.upload(pix);
     const Buffer tri_buf = vk.upload(tris);
     const Buffer emit_buf = vk.upload(emit_rows);
+    const Buffer alpha_buf = vk.upload(alpha);
+    const Buffer texel_buf = vk.upload(texels);
+    std::vector<float> sample_uv;
+    for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
+    const Buffer sample_buf = vk.upload(sample_uv);
     const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
     const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * k, 1) * 4, Memory::device);
     const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
+    const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
     vk.submit_now(
         [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0); });
@@ -199,6 +243,8 @@ class GearsVk final : public ShadowMethod {
       for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
         for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
       const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
+      const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
+      const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
       vis.times.add("grid_camera", elapsed_ms(t0));
 
       // Submission 1: cells, counts, prefix sum.
@@ -207,15 +253,19 @@ class GearsVk final : public ShadowMethod {
       {
         CommandList cl(vk);
         cl.fill(totals, 0);
+        cl.fill(cell_max_z, 0);
         cl.barrier();
         cl.dispatch(programs.get(Shader::gears_cells),
-                    CellsPush{cam_buf.address(), pix_buf.address(), cell_buf.address(), na}, na);
+                    CellsPush{cam_buf.address(), pix_buf.address(), cell_buf.address(),
+                              cell_max_z.address(), na},
+                    na);
         cl.barrier();
         cl.mark("pixel_cells");
-        cl.dispatch(programs.get(Shader::gears_count),
-                    CountPush{cam_buf.address(), tri_buf.address(), counts.address(),
-                              rects.address(), totals.address() + 8, tri_count},
-                    tri_count);
+        cl.dispatch(
+            programs.get(Shader::gears_count),
+            CountPush{cam_buf.address(), tri_buf.address(), counts.address(), rects.address(),
+                      totals.address() + 8, cell_max_z.address(), zmin.address(), tri_count},
+            tri_count);
         cl.barrier();
         cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 0);
         cl.barrier();
@@ -238,13 +288,13 @@ class GearsVk final : public ShadowMethod {
         const Buffer vals(vk, size_t{pairs} * 4, Memory::device);
         const Buffer keys_tmp(vk, size_t{pairs} * 4, Memory::device);
         const Buffer vals_tmp(vk, size_t{pairs} * 4, Memory::device);
-        const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
         const Buffer begin(vk, size_t{cells} * 4, Memory::device);
         const Buffer end(vk, size_t{cells} * 4, Memory::device);
         CommandList cl(vk);
         cl.dispatch(programs.get(Shader::gears_write),
                     WritePush{rects.address(), counts.address(), keys.address(), vals.address(),
-                              tri_count, static_cast<uint32_t>(cam.res_x)},
+                              cell_max_z.address(), zmin.address(), tri_count,
+                              static_cast<uint32_t>(cam.res_x), cam.light_max_z},
                     tri_count);
         cl.barrier();
         cl.mark("pair_write");
@@ -261,23 +311,40 @@ class GearsVk final : public ShadowMethod {
                     RangesPush{sorted_keys.address(), begin.address(), end.address(), pairs},
                     pairs);
         cl.barrier();
-        cl.mark("cell_ranges");
-        RasterPush rp{pix_buf.address(),
-                      tri_buf.address(),
-                      cell_buf.address(),
-                      begin.address(),
-                      end.address(),
-                      sorted_vals.address(),
-                      rows_buf.address(),
-                      emit_buf.address(),
-                      na,
-                      k,
-                      {uv_lo.x, uv_lo.y},
-                      {uv_hi.x, uv_hi.y}};
-        cl.dispatch(programs.get(Shader::gears_raster), rp, na);
+        cl.fill(totals, 0);
         cl.barrier();
-        cl.mark("rasterize");
+        cl.dispatch(programs.get(Shader::gears_longest),
+                    LongestPush{begin.address(), end.address(), totals.address(), cells}, cells);
+        cl.barrier();
+        cl.mark("cell_ranges");
         cl.submit(&vis.times);
+        const uint32_t longest = vk.download<uint32_t>(totals, 1)[0];
+
+        // Submission 3: the rasterization, in chunks of each cell's list.
+        CommandList raster(vk);
+        for (uint32_t first = 0; first < longest; first += kRasterChunk) {
+          const RasterPush rp{pix_buf.address(),
+                              tri_buf.address(),
+                              cell_buf.address(),
+                              begin.address(),
+                              end.address(),
+                              sorted_vals.address(),
+                              rows_buf.address(),
+                              emit_buf.address(),
+                              na,
+                              k,
+                              first,
+                              kRasterChunk,
+                              {uv_lo.x, uv_lo.y},
+                              {uv_hi.x, uv_hi.y},
+                              alpha_buf.address(),
+                              texel_buf.address(),
+                              sample_buf.address()};
+          raster.dispatch(programs.get(Shader::gears_raster), rp, na);
+          raster.barrier();
+        }
+        raster.mark("rasterize");
+        raster.submit(&vis.times);
       }
       wall_gpu += elapsed_ms(t0);
     }

@@ -29,6 +29,9 @@ const uint32_t kGearsWrite[] = {
 const uint32_t kGearsRanges[] = {
 #include "gears_ranges.comp.inc"
 };
+const uint32_t kGearsLongest[] = {
+#include "gears_longest.comp.inc"
+};
 const uint32_t kGearsRaster[] = {
 #include "gears_raster.comp.inc"
 };
@@ -72,6 +75,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kGearsWrite;
     case Shader::gears_ranges:
       return kGearsRanges;
+    case Shader::gears_longest:
+      return kGearsLongest;
     case Shader::gears_raster:
       return kGearsRaster;
     case Shader::depth_min:

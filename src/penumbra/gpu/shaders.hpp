@@ -18,6 +18,7 @@ enum class Shader {
   gears_count,
   gears_write,
   gears_ranges,
+  gears_longest,
   gears_raster,
   depth_min,
   shadow_lookup,

@@ -24,3 +24,11 @@ vec2 project_cells(GridCamera cam, vec3 q) {
   precise float gy = (cam.eye.y + (q.y - cam.eye.y) * s - cam.grid_lo.y) * cam.cell_scale.y;
   return vec2(gx, gy);
 }
+
+/// Can a triangle whose nearest vertex is at depth zmin block a sample of cell c? Not when every
+/// sample of the cell is nearer than the triangle (and the triangle is beyond the light): a segment
+/// from a sample to the light stays nearer than both [seed 004 §3.1, the cell-depth cull].
+bool cell_may_be_blocked(Uints cell_max_z, uint c, float zmin, bool beyond_light) {
+  const uint m = cell_max_z.v[c];
+  return m != 0u && (!beyond_light || uintBitsToFloat(m - 1u) >= zmin);
+}

@@ -13,6 +13,8 @@ layout(push_constant) uniform Push {
   Uints counts;
   Uints rects;  // x0, y0, x1, y1 per triangle (x1 < x0: none)
   Uints overflow;  // Σ counts / 1024, to detect a pair count beyond 32 bits
+  Uints cell_max_z;
+  Floats zmin;  // per triangle, for the write pass's identical test
   uint n;
 } pc;
 
@@ -53,11 +55,22 @@ void main() {
                    clamp(floor(hi + 1e-3), vec2(0.0), vec2(res_x - 1.0, res_y - 1.0)));
     }
   }
-  const uint count = rect.z >= rect.x && rect.w >= rect.y ? (rect.z - rect.x + 1u) * (rect.w - rect.y + 1u) : 0u;
+  // The cells of the box that have a sample the triangle may block.
+  const bool beyond_light = zmin > cam.light_max_z;
+  // One flat loop over the box (llvmpipe caps a loop at 65535 iterations, nested ones counted
+  // together: grids up to 255² on lavapipe).
+  uint count = 0u;
+  const uint w = rect.z >= rect.x ? rect.z - rect.x + 1u : 0u;
+  const uint area = rect.w >= rect.y ? w * (rect.w - rect.y + 1u) : 0u;
+  for (uint i = 0u; i < area; ++i) {
+    const uint c = (rect.y + i / w) * uint(cam.res_x) + rect.x + i % w;
+    count += cell_may_be_blocked(pc.cell_max_z, c, zmin, beyond_light) ? 1u : 0u;
+  }
   pc.counts.v[t] = count;
   pc.rects.v[4u * t] = rect.x;
   pc.rects.v[4u * t + 1u] = rect.y;
   pc.rects.v[4u * t + 2u] = rect.z;
   pc.rects.v[4u * t + 3u] = rect.w;
+  pc.zmin.v[t] = zmin;
   if (count >= 1024u) atomicAdd(pc.overflow.v[0], count >> 10u);
 }

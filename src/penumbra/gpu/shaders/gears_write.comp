@@ -1,14 +1,19 @@
 #version 460
-// GEARS step 3.3, write pass: triangle t writes its (cell, t) pairs from its scanned offset.
+// GEARS step 3.3, write pass: triangle t writes its (cell, t) pairs from its scanned offset (the
+// count pass's cells, by the same test).
 #include "common.glsl"
+#include "gears.glsl"
 
 layout(push_constant) uniform Push {
   Uints rects;
   Uints offsets;  // exclusive prefix sum of the counts
   Uints keys;     // cell
   Uints vals;     // triangle
+  Uints cell_max_z;
+  Floats zmin;
   uint n;
   uint res_x;
+  float light_max_z;
 } pc;
 
 void main() {
@@ -18,10 +23,14 @@ void main() {
                         pc.rects.v[4u * t + 3u]);
   if (r.z < r.x || r.w < r.y) return;
   uint o = pc.offsets.v[t];
-  for (uint y = r.y; y <= r.w; ++y)
-    for (uint x = r.x; x <= r.z; ++x) {
-      pc.keys.v[o] = y * pc.res_x + x;
-      pc.vals.v[o] = t;
-      ++o;
-    }
+  const float zmin = pc.zmin.v[t];
+  const bool beyond_light = zmin > pc.light_max_z;
+  const uint w = r.z - r.x + 1u, area = w * (r.w - r.y + 1u);
+  for (uint i = 0u; i < area; ++i) {
+    const uint c = (r.y + i / w) * pc.res_x + r.x + i % w;
+    if (!cell_may_be_blocked(pc.cell_max_z, c, zmin, beyond_light)) continue;
+    pc.keys.v[o] = c;
+    pc.vals.v[o] = t;
+    ++o;
+  }
 }

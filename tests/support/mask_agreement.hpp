@@ -1,0 +1,80 @@
+// Comparing two sample-exact methods' per-sample masks on one frame, each mismatch classified:
+// a tie (the segment pixel → light sample within float rounding of an occluder's edge plane or
+// plane) or unexplained. The same oracle as tests/test_gears.cpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "penumbra/render/receivers.hpp"
+#include "support/frame_helpers.hpp"
+
+namespace penumbra::test {
+
+/// Is the segment origin → x numerically ambiguous against some occluding triangle: within a
+/// relative `tol` of one of its edge planes or of its plane (t = 1)? Double precision, brute force.
+inline bool ambiguous_segment(const Scene& scene, const DVec3& o, const DVec3& x,
+                              double tol = 1e-4) {
+  const DVec3 d = x - o;
+  for (const Mesh& m : scene.meshes) {
+    if (!m.casts_shadows) continue;
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+      const DVec3 a = DVec3(m.vertex(t, 0)) - o, b = DVec3(m.vertex(t, 1)) - o,
+                  c = DVec3(m.vertex(t, 2)) - o;
+      const DVec3 n[3] = {glm::cross(a, b), glm::cross(b, c), glm::cross(c, a)};
+      const double det = glm::dot(a, n[1]);
+      if (det == 0.0) continue;
+      const double s = det > 0 ? 1.0 : -1.0;
+      double lo = 1e300;
+      for (int i = 0; i < 3; ++i)
+        lo = std::min(lo, s * glm::dot(n[i], d) / (glm::length(n[i]) * glm::length(d) + 1e-300));
+      if (lo < -tol) continue;  // clearly outside the cone
+      const double sum = s * glm::dot(n[0] + n[1] + n[2], d);
+      const double tt = std::abs(det) / (sum != 0.0 ? sum : 1e-300);
+      if (lo <= tol && tt <= 1.0 + tol && tt > 0.0) return true;  // near an edge plane
+      if (lo > tol && std::abs(tt - 1.0) <= tol) return true;     // hit point at the light
+    }
+  }
+  return false;
+}
+
+struct MaskAgreement {
+  uint64_t pairs = 0, differ = 0, unexplained = 0, blocked = 0;
+  double mean_abs_dv = 0.0;
+};
+
+/// Sample-by-sample agreement of results a and b (both with masks) on light 0 of frame t.
+inline MaskAgreement compare_masks(const TestFrame& t, const MethodResult& a,
+                                   const MethodResult& b) {
+  const SampleMasks& ma = *a.per_light[0].masks;
+  const SampleMasks& mb = *b.per_light[0].masks;
+  const GBuffer& g = t.frame->gbuffer();
+  const int n = t.frame->samples().count();
+  MaskAgreement out;
+  std::vector<Vec2> uv(n);
+  size_t active = 0;
+  for (size_t i = 0; i < g.pixel_count(); ++i) {
+    if (t.frame->receivers(0)[i] != kActive) continue;
+    ++active;
+    out.mean_abs_dv += std::abs(a.per_light[0].lit[i] - b.per_light[0].lit[i]);
+    for (int s = 0; s < n; ++s) {
+      ++out.pairs;
+      out.blocked += ma.blocked(i, s);
+      if (ma.blocked(i, s) == mb.blocked(i, s)) continue;
+      ++out.differ;
+      t.frame->samples().pixel_samples(static_cast<int>(i % g.width), static_cast<int>(i / g.width),
+                                       uv);
+      const Vec3 o = g.shadow_origin(i);
+      const Vec3 x = light_frame(t.scene->lights[0], o).point(uv[s]);
+      if (!ambiguous_segment(*t.scene, DVec3(o), DVec3(x)) && ++out.unexplained <= 5)
+        std::printf("unexplained mismatch: pixel %zu sample %d %s %d %s %d\n", i, s,
+                    a.method.c_str(), int(ma.blocked(i, s)), b.method.c_str(),
+                    int(mb.blocked(i, s)));
+    }
+  }
+  out.mean_abs_dv /= std::max<size_t>(1, active);
+  return out;
+}
+
+}  // namespace penumbra::test
