@@ -9,11 +9,11 @@
 // s = sign(det(A−P, B−P, C−P)), and beyond the triangle's plane; each test is a line in light uv,
 // so no clipping is needed.
 //
-// Loops: every per-triangle loop has a constant trip count (unrolled where the compiler can), and
-// a dispatch walks at most `chunk` triangles of a cell (the host dispatches the chunks of the
-// longest cell in turn, OR-ing into rows_out): llvmpipe (lavapipe) stops any loop after 65535
+// Loops: a dispatch walks at most `chunk` triangles of a cell (the host dispatches the chunks of
+// the longest cell in turn, OR-ing into rows_out): llvmpipe (lavapipe) stops any loop after 65535
 // iterations in total, counting a nested loop's iterations across its enclosing loop's, so
-// chunk × 32 rows stays below that.
+// chunk × 32 rows stays below that (alpha-tested samples count too: a cell dense in alpha-tested
+// triangles can still reach the limit there).
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
@@ -105,8 +105,7 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
   }
   bool any = false;
   const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
-  [[unroll]] for (int j = 0; j < 32; ++j) {
-    if (j >= k) break;
+  for (int j = 0; j < k; ++j) {
     const float jf = float(j);
     precise float t_lo = -2.0, t_hi = kf + 1.0;
     bool empty = false;
@@ -122,8 +121,8 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
     if (!empty && lo <= hi) {
       uint span = (2u << uint(hi)) - (1u << uint(lo));
       if (alpha_tested)
-        [[unroll]] for (int i = 0; i < 32; ++i)
-          if (i >= lo && i <= hi && !alpha_blocks(t, la, lb, lc, j * k + i)) span &= ~(1u << uint(i));
+        for (int i = lo; i <= hi; ++i)
+          if (!alpha_blocks(t, la, lb, lc, j * k + i)) span &= ~(1u << uint(i));
       rows[j] |= span;
       any = any || span != 0u;
     }
