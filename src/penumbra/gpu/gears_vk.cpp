@@ -71,9 +71,9 @@ struct RasterPush {
 };
 static_assert(sizeof(RasterPush) == 120);
 
-// Triangles of a cell one rasterization dispatch walks: × 32 rows below llvmpipe's
+// Triangles of a cell one rasterization dispatch walks: × 32 rows × 4 lines below llvmpipe's
 // 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
-constexpr uint32_t kRasterChunk = 2000;
+constexpr uint32_t kRasterChunk = 256;
 
 void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});

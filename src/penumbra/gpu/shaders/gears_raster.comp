@@ -12,7 +12,7 @@
 // Loops: a dispatch walks at most `chunk` triangles of a cell (the host dispatches the chunks of
 // the longest cell in turn, OR-ing into rows_out): llvmpipe (lavapipe) stops any loop after 65535
 // iterations in total, counting a nested loop's iterations across its enclosing loop's, so
-// chunk × 32 rows stays below that (alpha-tested samples count too: a cell dense in alpha-tested
+// chunk × 32 rows × 4 lines stays below that (alpha-tested samples count too: a cell dense in alpha-tested
 // triangles can still reach the limit there).
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
