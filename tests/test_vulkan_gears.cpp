@@ -75,9 +75,8 @@ TEST(VulkanGears, DiskLight) {
               "disk light");
 }
 
-// Sphere lights: 1.9 % of the samples still differ from the CPU (not ties) in the last
-// measurement; disabled until fixed (docs/gpu.md).
-TEST(VulkanGears, DISABLED_SphereLight) {
+/// Per-pixel light frames (the sphere's silhouette disk from each pixel).
+TEST(VulkanGears, SphereLight) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   check_frame(backend, make_test_frame(round_light_scene(LightShape::sphere), 48, 48, grid(8)),
               "sphere light");
