@@ -9,6 +9,9 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
   hyperfine  # whole-process timings in docs/results.md
+  # The Vulkan backend: loader + headers, the GLSL compiler, lavapipe (a CPU Vulkan 1.3 device,
+  # so the GPU tests run everywhere) and the validation layer.
+  libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
 )
 
 missing=()

@@ -1,6 +1,6 @@
 // Comparing two sample-exact methods' per-sample masks on a test frame, with every mismatch
 // classified: a numerical tie (the segment to the sample passes within float tolerance of a
-// triangle's edge or ends on its plane) or unexplained. Shared by the GEARS and DCS tests.
+// triangle's edge or ends on its plane) or unexplained. Shared by the GEARS, DCS and Vulkan tests.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -50,16 +50,12 @@ struct MaskAgreement {
   int blocked = 0;
 };
 
-/// Compares `method`'s masks with `reference`'s (raytrace by default) on every active pixel;
+/// Compares the masks of two results `a` (the reference) and `b` on every active pixel of light 0;
 /// classifies each mismatch.
-inline MaskAgreement compare_masks(const TestFrame& t, const std::string& method,
-                                   const std::map<std::string, std::string>& options = {},
-                                   bool classify = true,
-                                   const std::string& reference = "raytrace") {
-  const MethodResult rt = t.run(reference, {}, true);
-  const MethodResult ge = t.run(method, options, true);
-  const SampleMasks& mr = *rt.per_light[0].masks;
-  const SampleMasks& mg = *ge.per_light[0].masks;
+inline MaskAgreement compare_masks(const TestFrame& t, const MethodResult& a,
+                                   const MethodResult& b, bool classify = true) {
+  const SampleMasks& ma = *a.per_light[0].masks;
+  const SampleMasks& mb = *b.per_light[0].masks;
   const GBuffer& g = t.frame->gbuffer();
   const int n = t.frame->samples().count();
   MaskAgreement out;
@@ -68,11 +64,11 @@ inline MaskAgreement compare_masks(const TestFrame& t, const std::string& method
   for (size_t i = 0; i < g.pixel_count(); ++i) {
     if (t.frame->receivers(0)[i] != kActive) continue;
     ++active;
-    out.mean_abs_dv += std::abs(rt.per_light[0].lit[i] - ge.per_light[0].lit[i]);
+    out.mean_abs_dv += std::abs(a.per_light[0].lit[i] - b.per_light[0].lit[i]);
     for (int s = 0; s < n; ++s) {
       ++out.pairs;
-      out.blocked += mr.blocked(i, s);
-      if (mr.blocked(i, s) == mg.blocked(i, s)) continue;
+      out.blocked += ma.blocked(i, s);
+      if (ma.blocked(i, s) == mb.blocked(i, s)) continue;
       ++out.differ;
       if (!classify) continue;
       t.frame->samples().pixel_samples(static_cast<int>(i % g.width), static_cast<int>(i / g.width),
@@ -83,13 +79,21 @@ inline MaskAgreement compare_masks(const TestFrame& t, const std::string& method
         ++out.unexplained;
         if (out.unexplained <= 5)
           std::printf("unexplained mismatch: pixel %zu sample %d %s %d %s %d\n", i, s,
-                      reference.c_str(), int(mr.blocked(i, s)), method.c_str(),
-                      int(mg.blocked(i, s)));
+                      a.method.c_str(), int(ma.blocked(i, s)), b.method.c_str(),
+                      int(mb.blocked(i, s)));
       }
     }
   }
   out.mean_abs_dv /= std::max<size_t>(1, active);
   return out;
+}
+
+/// Runs `method` (with `options`) and `reference` on `t` and compares their masks.
+inline MaskAgreement compare_masks(const TestFrame& t, const std::string& method,
+                                   const std::map<std::string, std::string>& options = {},
+                                   bool classify = true,
+                                   const std::string& reference = "raytrace") {
+  return compare_masks(t, t.run(reference, {}, true), t.run(method, options, true), classify);
 }
 
 inline void expect_equal_masks(const MaskAgreement& a, int min_blocked = 100) {

@@ -18,9 +18,9 @@ struct MapTriangle {
 
 }  // namespace
 
-DepthMap render_depth_map(const Scene& scene, const Vec3& light_point, std::span<const Vec3> cover,
-                          const DepthMapSpec& spec) {
-  if (spec.resolution < 1) throw Error("depth map resolution must be positive");
+DepthMapView fit_depth_map_view(const Scene& scene, const Vec3& light_point,
+                                std::span<const Vec3> cover, int resolution) {
+  if (resolution < 1) throw Error("depth map resolution must be positive");
   const DVec3 eye(light_point);
   // Frustum: axis toward the centre of the cover points' box, half-angle enclosing them all.
   Bounds3 box;
@@ -40,12 +40,22 @@ DepthMap render_depth_map(const Scene& scene, const Vec3& light_point, std::span
     tan_half = (z <= 0.0 || t > max_tan * z) ? max_tan : std::max(tan_half, t / z);
   }
   tan_half = std::min(max_tan, tan_half * (1.0 + 1e-3));
+  DepthMapView view;
+  view.proj = look_projection(eye, axis, tan_half, resolution, resolution);
+  view.texel_tan = 2.0 * tan_half / resolution;
+  view.near = 1e-6 * std::max(1e-3f, scene.bounds().diagonal());
+  return view;
+}
 
+DepthMap render_depth_map(const Scene& scene, const Vec3& light_point, std::span<const Vec3> cover,
+                          const DepthMapSpec& spec) {
+  const DepthMapView view = fit_depth_map_view(scene, light_point, cover, spec.resolution);
+  const DVec3 eye(light_point);
   DepthMap map;
-  map.proj = look_projection(eye, axis, tan_half, spec.resolution, spec.resolution);
+  map.proj = view.proj;
   map.depth = Image<float>(spec.resolution, spec.resolution, kInfinity);
-  map.texel_tan = 2.0 * tan_half / spec.resolution;
-  const double near = 1e-6 * std::max(1e-3f, scene.bounds().diagonal());
+  map.texel_tan = view.texel_tan;
+  const double near = view.near;
 
   // Project, cull by face selection, clip; fan-split into screen triangles.
   std::vector<MapTriangle> tris;

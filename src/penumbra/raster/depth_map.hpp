@@ -45,11 +45,20 @@ struct DepthMap {
   }
 };
 
-/// Renders the depth map of every mesh with casts_shadows from `light_point`. The square frustum
-/// looks at the centre of `cover` (a set of world points, e.g. the receivers) and is the narrowest
-/// one containing them all (tangent half-angle capped at tan 85°; points beyond fall outside the
-/// map). Alpha textures and transmittance are ignored: every caster triangle is opaque.
-/// Tile-parallel (bands of rows, each texel written by one task): deterministic.
+/// The frustum of a depth map: from `light_point` toward the centre of `cover` (a set of world
+/// points, e.g. the receivers), the narrowest square one containing them all (tangent half-angle
+/// capped at tan 85°; points beyond fall outside the map); near plane at 10⁻⁶ scene diagonals.
+struct DepthMapView {
+  Projection proj;
+  double texel_tan = 0.0;
+  double near = 0.0;
+};
+DepthMapView fit_depth_map_view(const Scene& scene, const Vec3& light_point,
+                                std::span<const Vec3> cover, int resolution);
+
+/// Renders the depth map of every mesh with casts_shadows from `light_point` in the frustum of
+/// fit_depth_map_view. Alpha textures and transmittance are ignored: every caster triangle is
+/// opaque. Tile-parallel (bands of rows, each texel written by one task): deterministic.
 DepthMap render_depth_map(const Scene& scene, const Vec3& light_point, std::span<const Vec3> cover,
                           const DepthMapSpec& spec);
 

@@ -15,15 +15,13 @@
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/render/receivers.hpp"
-#include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/depth_maps/shadow_map.hpp"
+#include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra {
 
-namespace {
-
-double light_width(const Light& light) {
+double pcss_light_width(const Light& light) {
   switch (light.shape) {
     case LightShape::point:
       return 0.0;
@@ -35,6 +33,8 @@ double light_width(const Light& light) {
   }
   return 0.0;
 }
+
+namespace {
 
 class Pcss final : public ShadowMethod {
  public:
@@ -51,7 +51,7 @@ class Pcss final : public ShadowMethod {
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     const DepthMap map = map_.render_from_light_centre(ctx, vis.times);
     auto start = std::chrono::steady_clock::now();
-    const double w_light = light_size_ > 0.0 ? light_size_ : light_width(ctx.light);
+    const double w_light = light_size_ > 0.0 ? light_size_ : pcss_light_width(ctx.light);
     const double z_min = std::max(static_cast<double>(map.min_depth), 1e-9);
     parallel_rows(g.height, [&](int y) {
       ShadowMapLookup look(map, map_.bias, map_.slope_bias);

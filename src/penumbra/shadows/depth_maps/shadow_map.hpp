@@ -41,6 +41,9 @@ struct DepthMapSettings {
 DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_point,
                                    int resolution, FaceSelect faces);
 
+/// PCSS's w_light: the rectangle's longer side, a disk's or sphere's diameter, 0 for a point.
+double pcss_light_width(const Light& light);
+
 /// Depth tests of one receiver point against a depth map.
 class ShadowMapLookup {
  public:

@@ -1,0 +1,48 @@
+#include "penumbra/gpu/backend.hpp"
+
+#include <algorithm>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/gpu/depth_pass.hpp"
+
+namespace penumbra::gpu {
+
+Backend::Backend(const ContextOptions& options)
+    : ctx_(std::make_unique<VulkanContext>(options)),
+      programs_(std::make_unique<Programs>(*ctx_)) {}
+
+Backend::~Backend() = default;
+
+DepthPipeline& Backend::depth_pipeline() {
+  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_);
+  return *depth_;
+}
+
+const std::vector<std::string>& Backend::methods() {
+  static const std::vector<std::string> names = {"gears", "shadow_map", "pcss"};
+  return names;
+}
+
+bool Backend::supports(std::string_view method) {
+  const auto& m = methods();
+  return std::find(m.begin(), m.end(), method) != m.end();
+}
+
+MethodInfo Backend::vulkan_method(const MethodInfo& info) {
+  MethodInfo out = info;
+  if (info.name == "gears") {
+    out.create = [this](const MethodOptions& o) { return create_gears_vk(*this, o); };
+  } else if (info.name == "shadow_map") {
+    out.create = [this](const MethodOptions& o) { return create_shadow_map_vk(*this, o); };
+  } else if (info.name == "pcss") {
+    out.create = [this](const MethodOptions& o) { return create_pcss_vk(*this, o); };
+  } else {
+    std::string list;
+    for (const std::string& n : methods()) list += (list.empty() ? "" : ", ") + n;
+    throw Error("method '" + info.name +
+                "' has no Vulkan implementation (--backend vulkan runs: " + list + ")");
+  }
+  return out;
+}
+
+}  // namespace penumbra::gpu

@@ -1,0 +1,406 @@
+// `gears` on Vulkan: the pipeline of [seed 004 §4.2] in compute shaders, on the frame's G-buffer
+// and light samples (uploaded once per light):
+//   host:  light space and the grid camera C (gears::make_light_space / make_grid_camera, the CPU
+//          method's own construction, so both use the same grid);
+//   GPU:   pixel → cell (gears_cells), triangle → cells count (gears_count), exclusive prefix sum,
+//          write of the (cell, triangle) pairs (gears_write), radix sort by cell (radix_*),
+//          begin/end per cell (gears_ranges), per-pixel edge-plane rasterization onto the k×k
+//          bitmask, one 32-bit word per row (gears_raster);
+//   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
+// Three submissions per side of the light plane: the pair count is read back to size the pair
+// buffers, and the longest cell to size the rasterization's chunks.
+#include <bit>
+#include <chrono>
+#include <deque>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/gpu/backend.hpp"
+#include "penumbra/gpu/sort.hpp"
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/material.hpp"
+#include "penumbra/shadows/gears/grid_camera.hpp"
+#include "penumbra/shadows/light_weights.hpp"
+
+namespace penumbra::gpu {
+
+namespace {
+
+// shaders/gears.glsl's GridCamera (scalar layout: every member 4-byte aligned).
+struct GridCameraGpu {
+  float eye[3];
+  float plane_z;
+  float grid_lo[2];
+  float cell_scale[2];
+  int32_t res_x, res_y;
+  float far_z, light_max_z, light_min_z;
+  int32_t corner_count;
+  float side;
+  float pad;
+  float corners[8][4];
+};
+static_assert(sizeof(GridCameraGpu) == 64 + 128);
+
+struct CellsPush {
+  VkDeviceAddress cam, pix, cell, cell_max_z;
+  uint32_t n;
+};
+struct CountPush {
+  VkDeviceAddress cam, tris, counts, rects, overflow, cell_max_z, zmin;
+  uint32_t n;
+};
+struct WritePush {
+  VkDeviceAddress rects, offsets, keys, vals, cell_max_z, zmin;
+  uint32_t n, res_x;
+  float light_max_z;
+};
+struct RangesPush {
+  VkDeviceAddress keys, begin, end;
+  uint32_t n;
+};
+struct LongestPush {
+  VkDeviceAddress begin, end, longest;
+  uint32_t n;
+};
+struct RasterPush {
+  VkDeviceAddress pix, tris, cell, begin, end, vals, rows_out, emit_rows;
+  uint32_t n;
+  int32_t k;
+  uint32_t first, chunk;  // this dispatch's part of each cell's list
+  float uv_lo[2], uv_hi[2];
+  VkDeviceAddress alpha, texels, samples;
+};
+static_assert(sizeof(RasterPush) == 120);
+
+// Triangles of a cell one rasterization dispatch walks: × 32 rows × 4 lines below llvmpipe's
+// 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
+constexpr uint32_t kRasterChunk = 256;
+
+void push4(std::vector<float>& out, const Vec3& v) {
+  out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
+}
+
+class GearsVk final : public ShadowMethod {
+ public:
+  GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
+    if (o.get_choice("variant") != "edge")
+      throw Error("gears.variant=" + o.get_choice("variant") +
+                  " has no Vulkan path (the GPU rasterizes edge planes)");
+    grid_ = o.get_int("grid");
+    eye_distance_ = static_cast<float>(o.get_real("eye_distance"));
+  }
+
+  Visibility compute(const ShadowContext& ctx) override {
+    using namespace penumbra::gears;
+    VulkanContext& vk = backend_.context();
+    Programs& programs = backend_.programs();
+    const GBuffer& g = ctx.gbuffer;
+    const Light& light = ctx.light;
+    const int n = ctx.samples.count();
+    const int k = ctx.samples.k();
+    // The GPU path covers the row-span rasterizer: the regular grid of shared samples, k ≤ 32.
+    if (light.shape == LightShape::point)
+      throw Error("gears on vulkan: point lights are not supported (use --backend cpu)");
+    if (ctx.samples.per_pixel() || ctx.samples.spec().pattern != SamplePattern::grid)
+      throw Error("gears on vulkan: needs --pattern grid (the row-span rasterizer's samples)");
+    if (k > 32) throw Error("gears on vulkan: at most 32×32 light samples (--samples ≤ 32)");
+    const bool sphere = light.shape == LightShape::sphere;
+    const Texture* emission =
+        light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
+
+    Visibility vis;
+    vis.lit = Image<float>(g.width, g.height, 1.0f);
+    if (emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    SampleMasks masks(g.width, g.height, n);
+
+    // ---- Host setup: light space, per-pixel light frames, occluders (as the CPU gears).
+    auto t0 = std::chrono::steady_clock::now();
+    std::vector<uint32_t> active;
+    for (size_t i = 0; i < g.pixel_count(); ++i)
+      if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
+    const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
+    Vec3 toward = frame0.emit_normal;
+    if (sphere) {
+      Bounds3 b;
+      for (uint32_t i : active) b.extend(g.shadow_origin(i));
+      toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
+    }
+    const LightSpace space = make_light_space(light, frame0, toward, +1);
+    std::vector<Vec3> p_light(active.size());
+    std::vector<float> pix;
+    pix.reserve(active.size() * 16);
+    for (size_t a = 0; a < active.size(); ++a) {
+      const Vec3 p = space.to_light(g.shadow_origin(active[a]));
+      p_light[a] = p;
+      Vec3 w = -p, eu(1.0f, 0.0f, 0.0f), ev(0.0f, 1.0f, 0.0f);
+      if (sphere) {
+        // The sphere's silhouette disk as seen from this pixel (scene/light.hpp).
+        const LightFrame f = light_frame(light, g.shadow_origin(active[a]));
+        auto dir = [&](const Vec3& d) {
+          return Vec3(glm::dot(space.inv_u, d), glm::dot(space.inv_v, d), glm::dot(space.inv_n, d));
+        };
+        w = space.to_light(f.corner) - p;
+        eu = dir(f.edge_u);
+        ev = dir(f.edge_v);
+      }
+      push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
+    }
+    // Occluders in light space, and for alpha-tested ones the texture to test per sample.
+    std::vector<float> tris, alpha;
+    std::vector<uint32_t> texels;
+    std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
+    for (const Mesh& mesh : ctx.scene.meshes) {
+      if (!mesh.casts_shadows) continue;
+      const Material& mat = ctx.scene.material_of(mesh);
+      if (mat.transmittance > 0.0f)
+        throw Error("gears on vulkan: semi-opaque occluders are not supported (use --backend cpu)");
+      const Texture* tex =
+          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
+      float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      if (tex) {
+        int& offset = texel_offset[mat.alpha_texture];
+        if (offset < 0) {
+          offset = static_cast<int>(texels.size());
+          for (int y = 0; y < tex->height; ++y)
+            for (int x = 0; x < tex->width; ++x)
+              texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
+        }
+        header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
+        header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
+        header[3] = 1.0f;
+      }
+      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        for (int c = 0; c < 3; ++c) push4(tris, space.to_light(mesh.vertex(t, c)));
+        alpha.insert(alpha.end(), header, header + 4);
+        Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
+        if (tex && !mesh.uvs.empty())
+          for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
+        alpha.insert(alpha.end(),
+                     {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y, 0.0f, 0.0f});
+      }
+    }
+    const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
+    // Light corners in light space, for the extrusion.
+    std::vector<Vec3> corners;
+    const float r = sphere ? light.radius : 0.0f;
+    for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
+      for (int c = 0; c < 4; ++c)
+        corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
+    // Shared sample positions: their bounding box and the rows of samples the light emits from.
+    std::vector<Vec2> shared(n);
+    ctx.samples.pixel_samples(0, 0, shared);
+    Vec2 uv_lo(kInfinity), uv_hi(-kInfinity);
+    for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
+    std::vector<uint32_t> emit_rows(k, 0);
+    std::vector<uint64_t> emit_words(masks.words_per_pixel(), 0);
+    int emit_count = 0;
+    for (int s = 0; s < n; ++s)
+      if (frame0.emits(shared[s])) {
+        emit_rows[s / k] |= 1u << (s % k);
+        emit_words[s >> 6] |= uint64_t{1} << (s & 63);
+        ++emit_count;
+      }
+    vis.times.add("light_space_setup", elapsed_ms(t0));
+
+    t0 = std::chrono::steady_clock::now();
+    const uint32_t na = static_cast<uint32_t>(active.size());
+    const Buffer pix_buf = vk.upload(pix);
+    const Buffer tri_buf = vk.upload(tris);
+    const Buffer emit_buf = vk.upload(emit_rows);
+    const Buffer alpha_buf = vk.upload(alpha);
+    const Buffer texel_buf = vk.upload(texels);
+    std::vector<float> sample_uv;
+    for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
+    const Buffer sample_buf = vk.upload(sample_uv);
+    const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
+    const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * k, 1) * 4, Memory::device);
+    const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
+    const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
+    const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
+    const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
+    vk.submit_now(
+        [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0); });
+    vis.times.add("wall_upload", elapsed_ms(t0));
+
+    double wall_gpu = 0.0;
+    uint64_t total_pairs = 0;
+    for (int side : {+1, -1}) {
+      std::vector<Vec3> pts;
+      for (const Vec3& q : p_light)
+        if ((side > 0) == (q.z >= 0.0f)) pts.emplace_back(q.x, q.y, side * q.z);
+      if (pts.empty() || tri_count == 0) continue;
+      t0 = std::chrono::steady_clock::now();
+      const LightSpace side_space = make_light_space(light, frame0, toward, side);
+      const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_, grid_);
+      GridCameraGpu cg{};
+      cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
+      cg.plane_z = cam.plane_z;
+      cg.grid_lo[0] = cam.grid_lo.x, cg.grid_lo[1] = cam.grid_lo.y;
+      cg.cell_scale[0] = cam.cell_scale.x, cg.cell_scale[1] = cam.cell_scale.y;
+      cg.res_x = cam.res_x, cg.res_y = cam.res_y;
+      cg.far_z = cam.far_z, cg.light_max_z = cam.light_max_z, cg.light_min_z = cam.light_min_z;
+      cg.corner_count = static_cast<int32_t>(cam.light_corners.size());
+      cg.side = static_cast<float>(side);
+      for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
+        for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
+      const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
+      const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
+      const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
+      vis.times.add("grid_camera", elapsed_ms(t0));
+
+      // Submission 1: cells, counts, prefix sum.
+      t0 = std::chrono::steady_clock::now();
+      std::deque<Buffer> scratch;
+      {
+        CommandList cl(vk);
+        cl.fill(totals, 0);
+        cl.fill(cell_max_z, 0);
+        cl.barrier();
+        cl.dispatch(programs.get(Shader::gears_cells),
+                    CellsPush{cam_buf.address(), pix_buf.address(), cell_buf.address(),
+                              cell_max_z.address(), na},
+                    na);
+        cl.barrier();
+        cl.mark("pixel_cells");
+        cl.dispatch(
+            programs.get(Shader::gears_count),
+            CountPush{cam_buf.address(), tri_buf.address(), counts.address(), rects.address(),
+                      totals.address() + 8, cell_max_z.address(), zmin.address(), tri_count},
+            tri_count);
+        cl.barrier();
+        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 0);
+        cl.barrier();
+        cl.mark("triangle_count");
+        record_exclusive_scan(programs, cl, counts, tri_count, scratch);
+        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 4);
+        cl.barrier();
+        cl.mark("prefix_sum");
+        cl.submit(&vis.times);
+      }
+      const std::vector<uint32_t> tot = vk.download<uint32_t>(totals, 3);
+      if (uint64_t{tot[2]} * 1024 >= (uint64_t{1} << 31))
+        throw Error("gears on vulkan: more than 2^31 triangle-cell pairs (lower gears.grid)");
+      const uint32_t pairs = tot[0] + tot[1];
+      total_pairs += pairs;
+
+      // Submission 2: pairs, sort by cell, per-cell ranges, rasterization.
+      if (pairs > 0) {
+        const Buffer keys(vk, size_t{pairs} * 4, Memory::device);
+        const Buffer vals(vk, size_t{pairs} * 4, Memory::device);
+        const Buffer keys_tmp(vk, size_t{pairs} * 4, Memory::device);
+        const Buffer vals_tmp(vk, size_t{pairs} * 4, Memory::device);
+        const Buffer begin(vk, size_t{cells} * 4, Memory::device);
+        const Buffer end(vk, size_t{cells} * 4, Memory::device);
+        CommandList cl(vk);
+        cl.dispatch(programs.get(Shader::gears_write),
+                    WritePush{rects.address(), counts.address(), keys.address(), vals.address(),
+                              cell_max_z.address(), zmin.address(), tri_count,
+                              static_cast<uint32_t>(cam.res_x), cam.light_max_z},
+                    tri_count);
+        cl.barrier();
+        cl.mark("pair_write");
+        const int key_bits = std::max(1, static_cast<int>(std::bit_width(cells - 1)));
+        const bool in_place = record_radix_sort(programs, cl, keys, vals, keys_tmp, vals_tmp, pairs,
+                                                key_bits, scratch);
+        const Buffer& sorted_keys = in_place ? keys : keys_tmp;
+        const Buffer& sorted_vals = in_place ? vals : vals_tmp;
+        cl.mark("radix_sort");
+        cl.fill(begin, 0);
+        cl.fill(end, 0);
+        cl.barrier();
+        cl.dispatch(programs.get(Shader::gears_ranges),
+                    RangesPush{sorted_keys.address(), begin.address(), end.address(), pairs},
+                    pairs);
+        cl.barrier();
+        cl.fill(totals, 0);
+        cl.barrier();
+        cl.dispatch(programs.get(Shader::gears_longest),
+                    LongestPush{begin.address(), end.address(), totals.address(), cells}, cells);
+        cl.barrier();
+        cl.mark("cell_ranges");
+        cl.submit(&vis.times);
+        const uint32_t longest = vk.download<uint32_t>(totals, 1)[0];
+
+        // Submission 3: the rasterization, in chunks of each cell's list.
+        CommandList raster(vk);
+        for (uint32_t first = 0; first < longest; first += kRasterChunk) {
+          const RasterPush rp{pix_buf.address(),
+                              tri_buf.address(),
+                              cell_buf.address(),
+                              begin.address(),
+                              end.address(),
+                              sorted_vals.address(),
+                              rows_buf.address(),
+                              emit_buf.address(),
+                              na,
+                              k,
+                              first,
+                              kRasterChunk,
+                              {uv_lo.x, uv_lo.y},
+                              {uv_hi.x, uv_hi.y},
+                              alpha_buf.address(),
+                              texel_buf.address(),
+                              sample_buf.address()};
+          raster.dispatch(programs.get(Shader::gears_raster), rp, na);
+          raster.barrier();
+        }
+        raster.mark("rasterize");
+        raster.submit(&vis.times);
+      }
+      wall_gpu += elapsed_ms(t0);
+    }
+    vis.times.add("wall_gpu", wall_gpu);
+
+    // ---- Readback: rows → SampleMasks (bit i·k + j... row-major: sample s = j·k + i).
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, size_t{na} * k);
+    std::vector<Vec2> uvs(n);
+    std::vector<float> sample_vis(n);
+    for (size_t a = 0; a < active.size(); ++a) {
+      const uint32_t pixel = active[a];
+      uint64_t* m = masks.pixel(pixel);
+      for (int j = 0; j < k; ++j) {
+        const uint64_t bits = rows[a * k + j];
+        const int p = j * k;
+        m[p >> 6] |= bits << (p & 63);
+        if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
+      }
+      if (!emission) {
+        int blocked = 0;
+        for (int i = 0; i < masks.words_per_pixel(); ++i)
+          blocked += std::popcount(m[i] & emit_words[i]);
+        SampleWeights w;
+        w.visible = Vec3(static_cast<float>(emit_count - blocked));
+        w.total = Vec3(static_cast<float>(emit_count));
+        vis.lit[pixel] = w.visible_fraction();
+        continue;
+      }
+      const LightFrame frame = light_frame(light, g.shadow_origin(pixel));
+      ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
+                                static_cast<int>(pixel / g.width), uvs);
+      for (int s = 0; s < n; ++s) sample_vis[s] = masks.blocked(pixel, s) ? 0.0f : 1.0f;
+      const SampleWeights w =
+          accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
+      vis.lit[pixel] = w.visible_fraction();
+      vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
+    }
+    vis.times.add("wall_readback", elapsed_ms(t0));
+    vis.counters["triangles"] = tri_count;
+    vis.counters["active_pixels"] = na;
+    vis.counters["pairs"] = static_cast<double>(total_pairs);
+    if (ctx.want_masks) vis.masks = std::move(masks);
+    return vis;
+  }
+
+ private:
+  Backend& backend_;
+  int grid_ = 128;
+  float eye_distance_ = 1.0f;
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowMethod> create_gears_vk(Backend& backend, const MethodOptions& options) {
+  return std::make_unique<GearsVk>(backend, options);
+}
+
+}  // namespace penumbra::gpu

@@ -1,0 +1,106 @@
+#include "penumbra/gpu/shaders.hpp"
+
+namespace penumbra::gpu {
+
+namespace {
+
+// glslc -mfmt=num writes each module as a comma-separated list of words.
+const uint32_t kScanBlock[] = {
+#include "scan_block.comp.inc"
+};
+const uint32_t kScanAdd[] = {
+#include "scan_add.comp.inc"
+};
+const uint32_t kRadixHist[] = {
+#include "radix_hist.comp.inc"
+};
+const uint32_t kRadixScatter[] = {
+#include "radix_scatter.comp.inc"
+};
+const uint32_t kGearsCells[] = {
+#include "gears_cells.comp.inc"
+};
+const uint32_t kGearsCount[] = {
+#include "gears_count.comp.inc"
+};
+const uint32_t kGearsWrite[] = {
+#include "gears_write.comp.inc"
+};
+const uint32_t kGearsRanges[] = {
+#include "gears_ranges.comp.inc"
+};
+const uint32_t kGearsLongest[] = {
+#include "gears_longest.comp.inc"
+};
+const uint32_t kGearsRaster[] = {
+#include "gears_raster.comp.inc"
+};
+const uint32_t kDepthMin[] = {
+#include "depth_min.comp.inc"
+};
+const uint32_t kShadowLookup[] = {
+#include "shadow_lookup.comp.inc"
+};
+const uint32_t kShadowLookupF64[] = {
+#include "shadow_lookup_f64.comp.inc"
+};
+const uint32_t kDepthMapVert[] = {
+#include "depth_map.vert.inc"
+};
+const uint32_t kDepthMapFrag[] = {
+#include "depth_map.frag.inc"
+};
+
+const uint32_t kDepthMapF64Frag[] = {
+#include "depth_map_f64.frag.inc"
+};
+
+}  // namespace
+
+std::span<const uint32_t> spirv(Shader shader) {
+  switch (shader) {
+    case Shader::scan_block:
+      return kScanBlock;
+    case Shader::scan_add:
+      return kScanAdd;
+    case Shader::radix_hist:
+      return kRadixHist;
+    case Shader::radix_scatter:
+      return kRadixScatter;
+    case Shader::gears_cells:
+      return kGearsCells;
+    case Shader::gears_count:
+      return kGearsCount;
+    case Shader::gears_write:
+      return kGearsWrite;
+    case Shader::gears_ranges:
+      return kGearsRanges;
+    case Shader::gears_longest:
+      return kGearsLongest;
+    case Shader::gears_raster:
+      return kGearsRaster;
+    case Shader::depth_min:
+      return kDepthMin;
+    case Shader::shadow_lookup:
+      return kShadowLookup;
+    case Shader::shadow_lookup_f64:
+      return kShadowLookupF64;
+    case Shader::depth_map_vert:
+      return kDepthMapVert;
+    case Shader::depth_map_frag:
+      return kDepthMapFrag;
+    case Shader::depth_map_f64_frag:
+      return kDepthMapF64Frag;
+    case Shader::count_:
+      break;
+  }
+  return {};
+}
+
+const ComputePipeline& Programs::get(Shader shader) {
+  auto& p = pipelines_[static_cast<int>(shader)];
+  if (!p) p = std::make_unique<ComputePipeline>(ctx_, spirv(shader));
+  return *p;
+}
+
+}  // namespace penumbra::gpu

@@ -1,0 +1,71 @@
+#include "penumbra/gpu/sort.hpp"
+
+namespace penumbra::gpu {
+
+namespace {
+
+struct ScanBlockPush {
+  VkDeviceAddress src, dst, sums;
+  uint32_t n;
+};
+struct ScanAddPush {
+  VkDeviceAddress dst, sums;
+  uint32_t n;
+};
+struct HistPush {
+  VkDeviceAddress keys, hist;
+  uint32_t n, shift, blocks;
+};
+struct ScatterPush {
+  VkDeviceAddress keys_in, vals_in, keys_out, vals_out, hist;
+  uint32_t n, shift, blocks;
+};
+
+constexpr uint32_t kScanBlock = 1024;  // elements per workgroup of scan_block.comp
+
+}  // namespace
+
+void record_exclusive_scan(Programs& programs, CommandList& cl, const Buffer& data, uint32_t n,
+                           std::deque<Buffer>& scratch) {
+  if (n == 0) return;
+  const uint32_t blocks = (n + kScanBlock - 1) / kScanBlock;
+  scratch.emplace_back(programs.context(), size_t{blocks} * 4, Memory::device);
+  const Buffer& sums = scratch.back();
+  cl.dispatch_groups(programs.get(Shader::scan_block),
+                     ScanBlockPush{data.address(), data.address(), sums.address(), n}, blocks);
+  cl.barrier();
+  if (blocks == 1) return;  // the single block's prefix is already global
+  record_exclusive_scan(programs, cl, sums, blocks, scratch);
+  cl.dispatch(programs.get(Shader::scan_add), ScanAddPush{data.address(), sums.address(), n}, n);
+  cl.barrier();
+}
+
+bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
+                       const Buffer& values, const Buffer& keys_tmp, const Buffer& vals_tmp,
+                       uint32_t n, int key_bits, std::deque<Buffer>& scratch) {
+  if (n == 0) return true;
+  const uint32_t blocks = (n + kGroupSize - 1) / kGroupSize;
+  scratch.emplace_back(programs.context(), size_t{blocks} * 256 * 4, Memory::device);
+  const Buffer& hist = scratch.back();
+  const Buffer* src_k = &keys;
+  const Buffer* src_v = &values;
+  const Buffer* dst_k = &keys_tmp;
+  const Buffer* dst_v = &vals_tmp;
+  for (int shift = 0; shift < key_bits; shift += 8) {
+    const uint32_t s = static_cast<uint32_t>(shift);
+    cl.dispatch(programs.get(Shader::radix_hist),
+                HistPush{src_k->address(), hist.address(), n, s, blocks}, n);
+    cl.barrier();
+    record_exclusive_scan(programs, cl, hist, blocks * 256, scratch);
+    cl.dispatch(programs.get(Shader::radix_scatter),
+                ScatterPush{src_k->address(), src_v->address(), dst_k->address(), dst_v->address(),
+                            hist.address(), n, s, blocks},
+                n);
+    cl.barrier();
+    std::swap(src_k, dst_k);
+    std::swap(src_v, dst_v);
+  }
+  return src_k == &keys;
+}
+
+}  // namespace penumbra::gpu

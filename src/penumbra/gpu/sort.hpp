@@ -1,0 +1,25 @@
+// GPU building blocks of the GEARS pipeline: exclusive prefix sum and stable LSD radix sort of
+// (key, value) pairs [seed 004 §4.2: "the triangle-cell pairs are sorted by cell with a radix
+// sort"], recorded into a CommandList.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+
+#include "penumbra/gpu/shaders.hpp"
+
+namespace penumbra::gpu {
+
+/// In-place exclusive prefix sum of n uints in `data`. Temporary buffers go to `scratch` (a deque:
+/// references stay valid as it grows), which
+/// must outlive the submission.
+void record_exclusive_scan(Programs& programs, CommandList& cl, const Buffer& data, uint32_t n,
+                           std::deque<Buffer>& scratch);
+
+/// Stable sort of n (key, value) pairs by the low `key_bits` bits of the keys (8 bits per pass).
+/// Returns true when the result is in (keys, values), false when it is in (keys_tmp, vals_tmp).
+bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
+                       const Buffer& values, const Buffer& keys_tmp, const Buffer& vals_tmp,
+                       uint32_t n, int key_bits, std::deque<Buffer>& scratch);
+
+}  // namespace penumbra::gpu
