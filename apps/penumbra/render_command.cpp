@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/progress.hpp"
 #include "penumbra/metrics/error_map.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/scene/scene_file.hpp"
@@ -37,7 +38,7 @@ void parse_size(const std::string& text, Camera& camera) {
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
       w < 1 || h < 1 || w > 16384 || h > 16384)
-    throw Error("--size: expected WxH with 1..16384 pixels each, got '" + text + "'");
+    throw Error("--size: expected WxH with 1..16384 pixels each, got " + quote(text));
   camera.width = w;
   camera.height = h;
 }
@@ -50,7 +51,7 @@ std::map<std::string, std::map<std::string, std::string>> parse_sets(
     const size_t dot = s.find('.'), eq = s.find('=');
     if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 ||
         eq == dot + 1)
-      throw Error("--set: expected method.option=value, got '" + s + "'");
+      throw Error("--set: expected method.option=value, got " + quote(s));
     out[s.substr(0, dot)][s.substr(dot + 1, eq - dot - 1)] = s.substr(eq + 1);
   }
   return out;
@@ -84,7 +85,7 @@ void run_render(const RenderArgs& args) {
   Scene scene = load_scene(args.scene);
   if (!args.size.empty()) parse_size(args.size, scene.camera);
   const auto pattern = parse_sample_pattern(args.pattern);
-  if (!pattern) throw Error("--pattern: unknown light-sample pattern '" + args.pattern + "'");
+  if (!pattern) throw Error("--pattern: unknown light-sample pattern " + quote(args.pattern));
   const ShadingMode shading =
       args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
   const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
@@ -127,8 +128,10 @@ void run_render(const RenderArgs& args) {
   for (size_t m = 0; m < methods.size(); ++m) {
     std::fprintf(stderr, "  %-16s ...", methods[m]->name.c_str());
     std::fflush(stderr);
+    set_stderr_line_open(true);
     MethodResult result = frame.run(*methods[m], options[m], shading == ShadingMode::integrate);
     std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
+    set_stderr_line_open(false);
 
     const std::filesystem::path dir = several ? out_dir / result.method : out_dir;
     std::filesystem::create_directories(dir, ec);

@@ -30,19 +30,13 @@ namespace fs = std::filesystem;
 constexpr int64_t kMaxDimension = 1 << 20;
 constexpr int64_t kMaxPixelsPerLayer = int64_t{1} << 28;
 
-std::string quoted(const fs::path& path) {
-  return "'" + path.string() + "'";
-}
-
-// Library messages (OpenEXR's in particular) may span lines; the CLI prints errors on one line.
-std::string one_line(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  std::replace(text.begin(), text.end(), '\r', ' ');
-  return text;
+std::string quote_path(const fs::path& path) {
+  return quote(path.string(), 200);
 }
 
 [[noreturn]] void fail(const char* what, const fs::path& path, const std::string& reason) {
-  throw Error(std::string(what) + " " + quoted(path) + ": " + one_line(reason));
+  // Library messages (OpenEXR's in particular) may span lines; the CLI prints errors on one line.
+  throw Error(std::string(what) + " " + quote_path(path) + ": " + one_line(reason));
 }
 
 /// Throws unless `path` names an existing regular file.
@@ -145,7 +139,7 @@ int parse_dimension(const char* what, const fs::path& path, const std::string& t
   int64_t value = 0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (token.empty() || ec != std::errc() || end != token.data() + token.size())
-    fail(what, path, std::string("malformed header: invalid ") + name + " '" + token + "'");
+    fail(what, path, std::string("malformed header: invalid ") + name + " " + quote(token));
   if (value <= 0 || value > kMaxDimension)
     fail(what, path, std::string("malformed header: ") + name + " out of range (" + token + ")");
   return static_cast<int>(value);
@@ -163,10 +157,10 @@ void check_layers_for_exr(const fs::path& path, const std::vector<FloatLayer>& l
   std::set<std::string> names;
   for (const FloatLayer& layer : layers) {
     if (layer.name.empty()) fail(what, path, "layer with an empty name");
-    if (!names.insert(layer.name).second) fail(what, path, "duplicate layer '" + layer.name + "'");
+    if (!names.insert(layer.name).second) fail(what, path, "duplicate layer " + quote(layer.name));
     if (layer.pixels.width() != width || layer.pixels.height() != height) {
       fail(what, path,
-           "layer '" + layer.name + "' is " + std::to_string(layer.pixels.width()) + "x" +
+           "layer " + quote(layer.name) + " is " + std::to_string(layer.pixels.width()) + "x" +
                std::to_string(layer.pixels.height()) + ", expected " + std::to_string(width) + "x" +
                std::to_string(height));
     }
@@ -324,7 +318,7 @@ std::vector<FloatLayer> read_pfm(const fs::path& path) {
       std::from_chars(scale_token.data(), scale_token.data() + scale_token.size(), scale);
   if (scale_token.empty() || ec != std::errc() || end != scale_token.data() + scale_token.size() ||
       !std::isfinite(scale) || scale == 0.0) {
-    fail(what, path, "malformed header: invalid scale '" + scale_token + "'");
+    fail(what, path, "malformed header: invalid scale " + quote(scale_token));
   }
   // Exactly one whitespace character separates the header from the raster.
   if (parser.pos >= bytes.size() || !is_pfm_space(bytes[parser.pos]))
@@ -363,7 +357,7 @@ std::vector<FloatLayer> read_float_image(const fs::path& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".exr") return read_exr(path);
   if (ext == ".pfm") return read_pfm(path);
-  fail("cannot read image", path, "unsupported format '" + ext + "' (expected .exr or .pfm)");
+  fail("cannot read image", path, "unsupported format " + quote(ext) + " (expected .exr or .pfm)");
 }
 
 }  // namespace penumbra

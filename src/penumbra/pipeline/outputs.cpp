@@ -88,8 +88,8 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& g,
       for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<float>(g.mesh_id[i]);
       write_scalar("mesh_id", ids);
     } else {
-      throw Error("unknown AOV '" + aov +
-                  "' (known: position, normal, shading_normal, depth, uv, mesh_id)");
+      throw Error("unknown AOV " + quote(aov) +
+                  " (known: position, normal, shading_normal, depth, uv, mesh_id)");
     }
   }
 }

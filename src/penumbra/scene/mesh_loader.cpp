@@ -21,7 +21,7 @@ namespace penumbra {
 namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& reason) {
-  throw Error("cannot load mesh '" + path.string() + "': " + reason);
+  throw Error("cannot load mesh " + quote(path.string(), 200) + ": " + reason);
 }
 
 /// One use of an aiMesh by a node, with the node's accumulated transform.
@@ -74,7 +74,7 @@ void check_header_counts(const std::filesystem::path& path) {
       std::string keyword, name, count;
       std::istringstream(line) >> keyword >> name >> count;
       if (keyword == "end_header") return;
-      if (keyword == "element") check(count, "'" + name + "' elements");
+      if (keyword == "element") check(count, quote(name) + " elements");
     }
     return;
   }

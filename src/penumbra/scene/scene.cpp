@@ -45,20 +45,20 @@ size_t remove_degenerate_triangles(Mesh& mesh) {
 size_t validate_scene(Scene& scene) {
   require(!scene.materials.empty(), "scene has no materials");
   for (const Material& m : scene.materials) {
-    require(is_finite(m.albedo), "material '" + m.name + "': albedo is not finite");
+    require(is_finite(m.albedo), "material " + quote(m.name) + ": albedo is not finite");
     require(m.alpha_texture < static_cast<int>(scene.textures.size()),
-            "material '" + m.name + "': alpha texture index out of range");
+            "material " + quote(m.name) + ": alpha texture index out of range");
     require(finite(m.transmittance) && m.transmittance >= 0.0f && m.transmittance < 1.0f,
-            "material '" + m.name + "': transmittance must be in [0, 1)");
+            "material " + quote(m.name) + ": transmittance must be in [0, 1)");
   }
   for (const Texture& t : scene.textures) {
     require(t.width > 0 && t.height > 0 && t.channels > 0 &&
                 t.texels.size() == static_cast<size_t>(t.width) * t.height * t.channels,
-            "texture '" + t.name + "': size does not match its texels");
+            "texture " + quote(t.name) + ": size does not match its texels");
   }
   size_t removed = 0;
   for (Mesh& mesh : scene.meshes) {
-    const std::string who = "mesh '" + mesh.name + "'";
+    const std::string who = "mesh " + quote(mesh.name);
     require(mesh.material >= 0 && mesh.material < static_cast<int>(scene.materials.size()),
             who + ": material index out of range");
     for (const Vec3& p : mesh.positions)
@@ -78,7 +78,7 @@ size_t validate_scene(Scene& scene) {
 
   require(!scene.lights.empty(), "scene has no lights");
   for (const Light& l : scene.lights) {
-    const std::string who = "light '" + l.name + "'";
+    const std::string who = "light " + quote(l.name);
     require(is_finite(l.center) && is_finite(l.radiance),
             who + ": position or radiance not finite");
     require(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0,

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/suggest.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/shapes.hpp"
@@ -40,22 +41,7 @@ std::string join(const std::vector<std::string>& items, const std::string& sep =
 }
 
 std::string in_quotes(const std::string& s) {
-  return "'" + s + "'";
-}
-
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
+  return quote(s, 200);
 }
 
 // ---- typed values -----------------------------------------------------------------------------
@@ -171,19 +157,7 @@ class Obj {
     if (!j.is_object()) expected(path_.empty() ? "top level" : path_, "an object", j);
     for (const auto& item : j.items()) {
       if (std::find(allowed.begin(), allowed.end(), item.key()) != allowed.end()) continue;
-      std::string msg = "unknown key " + in_quotes(item.key());
-      std::string best;
-      size_t best_d = std::numeric_limits<size_t>::max();
-      for (const std::string& a : allowed) {
-        // A likely typo: a small edit distance, or one name a prefix of the other (fov, fov_deg).
-        const std::string& key = item.key();
-        const size_t d = edit_distance(key, a);
-        const bool prefix =
-            std::min(key.size(), a.size()) >= 3 && (a.rfind(key, 0) == 0 || key.rfind(a, 0) == 0);
-        const size_t limit = std::max<size_t>(2, key.size() / 3);
-        if ((d <= limit || prefix) && d < best_d) best_d = d, best = a;
-      }
-      if (!best.empty()) msg += " (did you mean " + in_quotes(best) + "?)";
+      std::string msg = "unknown key " + in_quotes(item.key()) + did_you_mean(item.key(), allowed);
       msg += " (allowed: " + join(allowed) + ")";
       fail(path_, msg);
     }
@@ -607,9 +581,9 @@ Scene load_scene_file(const fs::path& path) {
     validate_scene(scene);
     return scene;
   } catch (const Error& e) {
-    throw Error("scene file '" + path.string() + "': " + e.what());
+    throw Error("scene file " + quote(path.string(), 200) + ": " + e.what());
   } catch (const std::bad_alloc&) {
-    throw Error("scene file '" + path.string() + "': out of memory");
+    throw Error("scene file " + quote(path.string(), 200) + ": out of memory");
   }
 }
 
@@ -620,8 +594,8 @@ Scene load_scene(std::string_view name_or_path) {
   if (fs::exists(path, ec)) return load_scene_file(path);
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
-  throw Error("unknown scene '" + std::string(name_or_path) + "': not a built-in scene (" +
-              join(names) + ") nor an existing scene file");
+  throw Error("unknown scene " + quote(name_or_path, 200) + did_you_mean(name_or_path, names) +
+              ": not a built-in scene (" + join(names) + ") nor an existing scene file");
 }
 
 }  // namespace penumbra
