@@ -72,5 +72,8 @@ int main(int argc, char** argv) {
   } catch (...) {
     return fail("internal error: unknown exception");
   }
+  // Tables and listings go to stdout: a full disk or a closed pipe there is a failure too.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    return fail("cannot write to standard output");
   return 0;
 }

@@ -114,6 +114,25 @@ long_key="$(head -c 100000 /dev/zero | tr '\0' k)"  # (one argument may hold at 
 err="$("$bin" render --scene quad --method raytrace --set "raytrace.$long_key=1" --out "$work/x" 2>&1)"
 [ "${#err}" -lt 1000 ] && grep -q "100000 bytes" <<<"$err" && ok || bad "a 3 MB option key was echoed whole (${#err} bytes)"
 expect_error "has no option" render --scene quad --method raytrace --set "raytrace.a$(printf '\033')[2Jb=1" --out "$work/x"
+# Special files are refused at once, not read forever.
+mkfifo "$work/fifo.json"
+expect_error "not a regular file" render --scene "$work/fifo.json" --method exact --out "$work/x"
+expect_error "not a regular file" info "$work/fifo.json"
+printf '{"camera":{"position":[0,2,4],"target":[0,0,0]},"materials":[{"name":"g"}],"meshes":[{"file":"/dev/zero","material":"g"}],"lights":[{"type":"point","center":[0,3,0],"radiance":1}]}' >"$work/zero_mesh.json"
+expect_error "cannot load mesh '/dev/zero': not a regular file" info "$work/zero_mesh.json"
+# A frame that cannot fit in memory is refused up front with the estimate, not by bad_alloc.
+expect_error "needs about" render --scene quad --method all --size 16384x16384 --samples 64 --shading integrate --out "$work/x"
+# Write failures: exit 1, and nothing half-written under the final name.
+mkdir -p "$work/w/beauty.png"
+expect_error "cannot write" render --scene quad --method raytrace --samples 1 --size 8x8 --out "$work/w"
+[ -z "$(find "$work/w" -name '*.partial-*')" ] && ok || bad "a temporary file was left behind"
+: >"$work/a_file"
+expect_error "cannot create output folder" compare "$work/r/exact/visibility.exr" "$work/r/raytrace/visibility.exr" --out "$work/a_file/x"
+err="$("$bin" list 2>&1 >/dev/full)"
+rc=$?
+[ "$rc" -eq 1 ] && [ "$(grep -c '^penumbra: error: cannot write to standard output' <<<"$err")" -eq 1 ] && ok ||
+  bad "list >/dev/full: exit $rc: $err"
+expect_error "cannot compare images of different sizes" compare "$work/r/exact/visibility.exr" "$work/p/visibility.pfm"
 # --help shows defaults.
 "$bin" render --help | grep -q -- "--samples.*=16" && ok || bad "render --help lacks the --samples default"
 

@@ -6,56 +6,55 @@ namespace penumbra {
 
 namespace {
 
-/// Appends `text` escaped, stopping before the escaped form exceeds `max_chars`; returns how many
-/// input bytes were consumed.
-size_t append_escaped(std::string& out, std::string_view text, size_t max_chars) {
-  size_t used = 0;
-  for (const char ch : text) {
-    const auto c = static_cast<unsigned char>(ch);
-    char piece[8];
-    if (c == '\n') {
-      std::snprintf(piece, sizeof piece, "\\n");
-    } else if (c == '\r') {
-      std::snprintf(piece, sizeof piece, "\\r");
-    } else if (c == '\t') {
-      std::snprintf(piece, sizeof piece, "\\t");
-    } else if (c == '\\' || c == '\'') {
-      std::snprintf(piece, sizeof piece, "\\%c", ch);
-    } else if (c < 0x20 || c >= 0x7f) {
-      std::snprintf(piece, sizeof piece, "\\x%02x", c);
-    } else {
-      piece[0] = ch;
-      piece[1] = '\0';
-    }
-    const std::string_view p(piece);
-    if (out.size() + p.size() > max_chars) break;
-    out += p;
-    ++used;
-  }
-  return used;
+/// A byte that could break the line or drive the terminal: C0 controls and DEL. Bytes ≥ 0x80 pass
+/// (UTF-8 names and paths stay readable) except the UTF-8 form of the C1 controls, see is_c1.
+bool is_control(unsigned char c) {
+  return c < 0x20 || c == 0x7f;
 }
 
+/// UTF-8 C1 control (U+0080..U+009F: 0xC2 0x80..0x9F), which some terminals obey like ESC.
+bool is_c1(std::string_view text, size_t i) {
+  return static_cast<unsigned char>(text[i]) == 0xc2 && i + 1 < text.size() &&
+         static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+         static_cast<unsigned char>(text[i + 1]) <= 0x9f;
+}
+
+std::string escape_byte(unsigned char c) {
+  switch (c) {
+    case '\n':
+      return "\\n";
+    case '\r':
+      return "\\r";
+    case '\t':
+      return "\\t";
+    default: {
+      char piece[8];
+      std::snprintf(piece, sizeof piece, "\\x%02x", c);
+      return piece;
+    }
+  }
+}
+
+/// `text` with control characters escaped (and, in a quoted string, the quote and backslash),
+/// cut so that it stays within `max_chars`; a cut notes the original length.
 std::string escaped_and_cut(std::string_view text, size_t max_chars, bool escape_quotes) {
   std::string out;
   size_t used = 0;
-  if (escape_quotes) {
-    used = append_escaped(out, text, max_chars);
-  } else {
-    // Messages keep their own quotes and backslashes readable; only what breaks a line is escaped.
-    for (const char ch : text) {
-      const auto c = static_cast<unsigned char>(ch);
-      if (c >= 0x20 && c < 0x7f && out.size() < max_chars) {
-        out += ch;
-      } else if (c < 0x20 || c >= 0x7f) {
-        std::string piece;
-        append_escaped(piece, std::string_view(&ch, 1), 8);
-        if (out.size() + piece.size() > max_chars) break;
-        out += piece;
-      } else {
-        break;
-      }
-      ++used;
+  for (; used < text.size(); ++used) {
+    const auto c = static_cast<unsigned char>(text[used]);
+    std::string piece;
+    if (is_control(c)) {
+      piece = escape_byte(c);
+    } else if (is_c1(text, used)) {
+      piece = escape_byte(c) + escape_byte(static_cast<unsigned char>(text[used + 1]));
+    } else if (escape_quotes && (c == '\\' || c == '\'')) {
+      piece = {'\\', static_cast<char>(c)};
+    } else {
+      piece = std::string(1, static_cast<char>(c));
     }
+    if (out.size() + piece.size() > max_chars) break;
+    out += piece;
+    if (is_c1(text, used)) ++used;
   }
   if (used < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
   return out;

@@ -20,6 +20,7 @@
 #include <system_error>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 
 namespace penumbra {
 namespace {
@@ -41,10 +42,8 @@ std::string quote_path(const fs::path& path) {
 
 /// Throws unless `path` names an existing regular file.
 void require_regular_file(const char* what, const fs::path& path) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) fail(what, path, "file not found");
-  if (!fs::is_regular_file(status)) fail(what, path, "not a regular file");
+  if (const std::string problem = regular_file_problem(path); !problem.empty())
+    fail(what, path, problem);
 }
 
 std::vector<unsigned char> read_all_bytes(const char* what, const fs::path& path) {
@@ -64,12 +63,13 @@ std::vector<unsigned char> read_all_bytes(const char* what, const fs::path& path
   return bytes;
 }
 
+/// Every write checked, and atomic (files.hpp): a full disk never leaves a truncated image.
 void write_all_bytes(const char* what, const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) fail(what, path, "cannot open file for writing");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) fail(what, path, "write error");
+  try {
+    write_text_file(path, bytes);
+  } catch (const Error& e) {
+    fail(what, path, e.what());
+  }
 }
 
 std::string lowercase_extension(const fs::path& path) {
@@ -206,8 +206,16 @@ void write_png_rgb8(const fs::path& path, int width, int height, const std::vect
          "got " + std::to_string(rgb.size()) + " bytes for a " + std::to_string(width) + "x" +
              std::to_string(height) + " RGB image (expected " + std::to_string(expected) + ")");
   }
-  if (stbi_write_png(path.string().c_str(), width, height, 3, rgb.data(), width * 3) == 0)
-    fail(what, path, "stb_image_write failed (missing directory or not writable?)");
+  // Encoded in memory, then written with every write checked: stbi_write_png ignores fwrite
+  // errors and would report success on a full disk.
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+  };
+  if (stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3) == 0)
+    fail(what, path, "PNG encoding failed");
+  write_all_bytes(what, path, png);
 }
 
 // -----------------------------------------------------------------------------------------------
@@ -226,9 +234,13 @@ void write_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
       frame.insert(layer.name,
                    Imf::Slice::Make(Imf::FLOAT, layer.pixels.data(), header.dataWindow()));
     }
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(frame);
-    file.writePixels(height);
+    write_file_atomically(path, [&](const fs::path& temporary) {
+      Imf::OutputFile file(temporary.string().c_str(), header);
+      file.setFrameBuffer(frame);
+      file.writePixels(height);
+    });  // OpenEXR throws on a failed write; the temporary is then removed
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     fail("cannot write EXR", path, e.what());
   }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 #include "penumbra/core/suggest.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
@@ -270,12 +271,13 @@ class TextureCache {
     const std::string key = (emission ? "E:" : "A:") + file.lexically_normal().string();
     if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
 
+    if (const std::string problem = regular_file_problem(file); !problem.empty())
+      fail(path, "cannot load texture " + in_quotes(file.string()) + ": " + problem);
     int w = 0, h = 0, n = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
         stbi_load(file.string().c_str(), &w, &h, &n, emission ? 3 : 0), stbi_image_free);
     if (!pixels) {
-      std::error_code ec;
-      const char* why = fs::exists(file, ec) ? stbi_failure_reason() : "no such file";
+      const char* why = stbi_failure_reason();
       fail(path, "cannot load texture " + in_quotes(file.string()) + ": " +
                      (why ? why : "unknown error"));
     }
@@ -328,7 +330,7 @@ Camera parse_camera(const json& j) {
   c.width = o.integer("width", c.width, 1, 16384);
   c.height = o.integer("height", c.height, 1, 16384);
   if (c.target == c.position) fail(o.at("target"), "equals camera.position");
-  if (glm::length(glm::cross(c.target - c.position, c.up)) <= 0.0f)
+  if (sine_between(DVec3(c.target) - DVec3(c.position), DVec3(c.up)) <= kParallelSine)
     fail(o.at("up"), "is zero or parallel to the view direction");
   return c;
 }
@@ -394,8 +396,14 @@ Mat4 parse_transform(const json& j, const std::string& path) {
     m = glm::rotate(m, r.x, Vec3(1, 0, 0));
     m = glm::scale(m, s);
   }
-  const float det = glm::determinant(glm::mat3(m));
-  if (!std::isfinite(det) || std::fabs(det) < 1e-12f) fail(path, "is singular (zero volume)");
+  // Singular relative to the columns' lengths, in double: a uniform scale of 1e-4 (det 1e-12) is
+  // a legitimate transform, a flattening one is not, whatever the scale.
+  const glm::dmat3 linear(glm::mat3{m});
+  const double volume_bound =
+      glm::length(linear[0]) * glm::length(linear[1]) * glm::length(linear[2]);
+  const double det = glm::determinant(linear);
+  if (!std::isfinite(det) || !(std::fabs(det) > 1e-9 * volume_bound))
+    fail(path, "is singular (zero volume)");
   return m;
 }
 
@@ -452,7 +460,8 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
     mesh.name = file.stem().string();
   } else if (shape == "quad") {
     const Vec3 center = o.vec3("center"), eu = o.vec3("edge_u"), ev = o.vec3("edge_v");
-    if (!(glm::length(glm::cross(eu, ev)) > 0.0f)) fail(path, "edge_u and edge_v span zero area");
+    if (!(sine_between(DVec3(eu), DVec3(ev)) > kParallelSine))
+      fail(path, "edge_u and edge_v span zero area");
     mesh = make_quad(center, eu, ev);
   } else if (shape == "box") {
     const Vec3 center = o.vec3("center"), half = o.vec3("half_extent");
@@ -516,7 +525,7 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
     case LightShape::rect:
       l.edge_u = o.vec3("edge_u");
       l.edge_v = o.vec3("edge_v");
-      if (!(glm::length(glm::cross(l.edge_u, l.edge_v)) > 1e-12f))
+      if (!(sine_between(DVec3(l.edge_u), DVec3(l.edge_v)) > kParallelSine))
         fail(path, "edge_u and edge_v span zero area");
       l.two_sided = o.boolean("two_sided", false);
       if (const json* v = o.find("emission_texture"))
@@ -524,8 +533,8 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
       break;
     case LightShape::disk: {
       const Vec3 n = o.vec3("normal");
-      if (!(glm::length(n) > 0.0f)) fail(o.at("normal"), "must be nonzero");
-      l.normal = glm::normalize(n);
+      if (!(glm::length(DVec3(n)) > 0.0)) fail(o.at("normal"), "must be nonzero");
+      l.normal = Vec3(glm::normalize(DVec3(n)));  // in double: a tiny normal does not underflow
       l.radius = o.positive("radius");
       break;
     }
@@ -564,9 +573,7 @@ Scene parse_scene(const json& j, const fs::path& base) {
 
 Scene load_scene_file(const fs::path& path) {
   try {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) fail("", "no such file");
-    if (fs::is_directory(path, ec)) fail("", "is a directory, not a scene file");
+    if (const std::string problem = regular_file_problem(path); !problem.empty()) fail("", problem);
     std::ifstream in(path, std::ios::binary);
     if (!in) fail("", "cannot open the file");
     std::ostringstream text;
