@@ -8,6 +8,7 @@ PACKAGES=(
   libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
   libcli11-dev nlohmann-json3-dev libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
+  clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer with ASan+UBSan
 )
 
 missing=()
