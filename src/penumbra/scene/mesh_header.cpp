@@ -155,6 +155,24 @@ class PlyBody {
     }
   }
 
+  /// ASCII: a record is one line (as assimp reads it); starts the next non-blank one and returns
+  /// false at the end of the data. Binary: always true (the reads check the length).
+  bool begin_record() {
+    if (format_ != PlyFormat::ascii) return true;
+    pos_ = line_end_ < body_.size() ? line_end_ : pos_;
+    while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
+    if (pos_ >= body_.size()) return false;
+    const size_t end = body_.find('\n', pos_);
+    line_end_ = end == std::string_view::npos ? body_.size() : end;
+    return true;
+  }
+  /// ASCII: whether the current record has another value (assimp tolerates short records).
+  bool has_value() {
+    if (format_ != PlyFormat::ascii) return true;
+    while (pos_ < line_end_ && is_space(body_[pos_])) ++pos_;
+    return pos_ < line_end_;
+  }
+
   /// Skips one value of any type (checking an ASCII token is a number).
   void skip(PlyType t, const char* what) {
     if (format_ == PlyFormat::ascii) {
@@ -166,10 +184,10 @@ class PlyBody {
 
  private:
   std::string_view token(const char* what) {
-    while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
+    while (pos_ < line_end_ && is_space(body_[pos_])) ++pos_;
     const size_t start = pos_;
-    while (pos_ < body_.size() && !is_space(body_[pos_])) ++pos_;
-    if (pos_ == start) bad(std::string("PLY: the file ends inside ") + what);
+    while (pos_ < line_end_ && !is_space(body_[pos_])) ++pos_;
+    if (pos_ == start) bad(std::string("PLY: a record ends inside ") + what);
     return body_.substr(start, pos_ - start);
   }
   const unsigned char* take(size_t n, const char* what) {
@@ -182,6 +200,7 @@ class PlyBody {
   std::string_view body_;
   PlyFormat format_;
   size_t pos_ = 0;
+  size_t line_end_ = 0;  // ASCII: end of the current record's line
 };
 
 MeshFileCounts validate_ply(std::string_view bytes) {
@@ -231,9 +250,8 @@ MeshFileCounts validate_ply(std::string_view bytes) {
         bad("PLY header: malformed property " + quote(line));
       }
       elements.back().properties.push_back(std::move(p));
-    } else {
-      bad("PLY header: unknown line " + quote(line));
     }
+    // Other lines (an exporter's stray text) are skipped, as assimp skips them.
   }
   if (!have_end) bad("PLY header has no end_header line");
   if (!have_format) bad("PLY header has no format line");
@@ -260,8 +278,12 @@ MeshFileCounts validate_ply(std::string_view bytes) {
   for (const PlyElement& e : elements) {
     const bool is_face = e.name == "face";
     for (uint64_t r = 0; r < e.count; ++r) {
+      if (!reader.begin_record())
+        bad("PLY: the file ends after " + std::to_string(r) + " of " + std::to_string(e.count) +
+            " " + quote(e.name) + " elements");
       for (const PlyProperty& p : e.properties) {
         const bool indices = is_face && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (!indices && !reader.has_value()) break;  // a short ASCII record, as assimp allows
         if (!p.list) {
           reader.skip(p.type, e.name.c_str());
           continue;
