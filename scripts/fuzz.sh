@@ -19,7 +19,7 @@ sources=(src/penumbra/core/*.cpp src/penumbra/io/*.cpp src/penumbra/scene/*.cpp)
 flags=(-std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
        -fno-sanitize-recover=undefined -DGLM_FORCE_XYZW_ONLY -Isrc
        $(pkg-config --cflags OpenEXR stb))
-libs=($(pkg-config --libs OpenEXR assimp tbb))
+libs=($(pkg-config --libs OpenEXR assimp tbb stb))
 
 # Each source compiled once (rebuilt when it or any header is newer), shared by both targets.
 mkdir -p "$out/obj"
@@ -60,12 +60,14 @@ seed() {
   fi
 }
 
+suppressions="$(pwd)/fuzz/lsan.supp"
 status=0
 for t in "${targets[@]}"; do
   seed "$t"
   echo "fuzzing $t for ${seconds}s"
   # -timeout: an input taking over 10 s is a hang; -rss_limit_mb: a runaway allocation is a finding.
-  if ! (cd "$out" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  if ! (cd "$out" && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$suppressions" \
+    UBSAN_OPTIONS=print_stacktrace=1 \
     "./fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$t-" "corpus_$t" >"fuzz_$t.log" 2>&1); then
     echo "FINDING in $t: see $out/fuzz_$t.log and $out/$t-*"
