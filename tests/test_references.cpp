@@ -184,7 +184,10 @@ TEST(GBuffer, CentrePixelHitsTheGroundWhereTheCameraLooks) {
   EXPECT_NEAR(g.depth[centre], std::sqrt(4.25f), 1e-5f);
   EXPECT_NEAR(g.geo_normal[centre].y, 1.0f, 1e-6f);
   EXPECT_EQ(g.mesh_id[centre], 0);
-  EXPECT_NEAR(g.ray_offset, kRayOffsetPerDiagonal * t.scene->bounds().diagonal(), 1e-9f);
+  // The offset is relative to the hit triangle: the ground quad's largest |coordinate|.
+  const Bounds3 ground = t.scene->meshes[0].bounds();
+  const float ground_magnitude = std::max({-ground.lo.x, -ground.lo.z, ground.hi.x, ground.hi.z});
+  EXPECT_FLOAT_EQ(g.ray_offset[centre], kRayOffsetRelative * ground_magnitude);
   EXPECT_TRUE(g.is_background(0));  // the top-left corner looks above the horizon
 }
 

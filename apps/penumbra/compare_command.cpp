@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
 #include "penumbra/metrics/error_map.hpp"
 #include "penumbra/metrics/error_metrics.hpp"
@@ -46,16 +47,40 @@ std::optional<Image<float>> mask_of(const std::filesystem::path& file,
   return std::nullopt;
 }
 
+/// The scene recorded in the stats.json beside a rendered visibility file, or "".
+std::string recorded_scene(const std::filesystem::path& file) {
+  const std::filesystem::path stats = file.parent_path() / "stats.json";
+  if (!regular_file_problem(stats).empty()) return "";
+  try {
+    std::ifstream in(stats);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    return j.at("scene").at("name").get<std::string>();
+  } catch (const std::exception&) {
+    return "";  // not ours or unreadable: nothing to warn about
+  }
+}
+
 void run_compare(const CompareArgs& args) {
   const auto ref_all = read_float_image(args.ref);
   const auto test_all = read_float_image(args.test);
   const auto ref = light_layers(ref_all), test = light_layers(test_all);
   if (ref.empty())
-    throw Error(args.ref +
+    throw Error(quote(args.ref, 200) +
                 ": no visibility layer (expected light0, light1, ... or one grey channel)");
   if (ref.size() != test.size())
     throw Error("the files hold different numbers of lights (" + std::to_string(ref.size()) +
                 " vs " + std::to_string(test.size()) + ")");
+  const Image<float>& r0 = ref.front().pixels;
+  const Image<float>& t0 = test.front().pixels;
+  if (r0.width() != t0.width() || r0.height() != t0.height())
+    throw Error("cannot compare images of different sizes: " + quote(args.ref, 200) + " is " +
+                std::to_string(r0.width()) + "x" + std::to_string(r0.height()) + ", " +
+                quote(args.test, 200) + " is " + std::to_string(t0.width()) + "x" +
+                std::to_string(t0.height()) + " (render both with the same --size)");
+  const std::string ref_scene = recorded_scene(args.ref), test_scene = recorded_scene(args.test);
+  if (!ref_scene.empty() && !test_scene.empty() && ref_scene != test_scene)
+    std::fprintf(stderr, "penumbra: warning: comparing renders of different scenes (%s vs %s)\n",
+                 quote(ref_scene).c_str(), quote(test_scene).c_str());
   const std::optional<Image<float>> mask = mask_of(args.ref, ref_all);
 
   nlohmann::json j;
@@ -73,8 +98,11 @@ void run_compare(const CompareArgs& args) {
 
   if (!args.out.empty()) {
     const std::filesystem::path dir = args.out;
-    std::filesystem::create_directories(dir);
-    std::ofstream(dir / "compare.json") << j.dump(2) << "\n";
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+      throw Error("cannot create output folder " + quote(dir.string(), 200) + ": " + ec.message());
+    write_text_file(dir / "compare.json", j.dump(2) + "\n");
     const double scale =
         args.error_scale > 0.0 ? args.error_scale : std::max(first.max_abs, 1.0 / 255.0);
     write_error_map_png(dir / "error_map.png", abs_difference(ref[0].pixels, test[0].pixels), scale,

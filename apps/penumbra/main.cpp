@@ -1,28 +1,79 @@
 // penumbra: render soft shadows with every method, compare them with the exact reference.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/progress.hpp"
+#include "penumbra/core/suggest.hpp"
+
+namespace {
+
+/// The error contract: exactly one line on stderr, `penumbra:` first, control characters escaped,
+/// long strings cut, on a fresh line even if a progress line was being drawn; exit status 1.
+int fail(const std::string& message) {
+  if (penumbra::stderr_line_open()) std::fputc('\n', stderr);
+  std::fprintf(stderr, "penumbra: error: %s\n", penumbra::one_line(message).c_str());
+  return 1;
+}
+
+/// CLI11 reports a mistyped subcommand as a stray positional argument ("The following arguments
+/// were not expected") or as "A subcommand is required"; name the command and the nearest one.
+std::string usage_message(const CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names.push_back(sub->get_name());
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  if (app.get_subcommands().empty()) {
+    if (argc > 1 && argv[1][0] != '-')
+      return "unknown command " + penumbra::quote(argv[1]) +
+             penumbra::did_you_mean(argv[1], names) + " (commands: " + list + ")";
+    if (argc <= 1) return "a command is required (commands: " + list + "; see --help)";
+  }
+  const auto parsed = app.get_subcommands();
+  const std::string who = parsed.empty() ? "" : parsed.front()->get_name() + ": ";
+  return who + e.what() + " (see --help)";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "Penumbra: soft shadows from area lights, every published method against an exact reference"};
   app.require_subcommand(1);
+  app.option_defaults()->always_capture_default();  // --help shows every option's default
   penumbra::cli::add_render_command(app);
   penumbra::cli::add_compare_command(app);
   penumbra::cli::add_info_command(app);
   penumbra::cli::add_list_command(app);
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(usage_message(app, e, argc, argv));
   } catch (const penumbra::Error& e) {
-    std::fprintf(stderr, "penumbra: error: %s\n", e.what());
-    return 1;
+    return fail(e.what());
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory (try a smaller --size, fewer --samples or fewer methods)");
+  } catch (const std::filesystem::filesystem_error& e) {
+    return fail(e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "penumbra: internal error: %s\n", e.what());
-    return 2;
+    return fail(std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail("internal error: unknown exception");
   }
+  // Tables and listings go to stdout: a full disk or a closed pipe there is a failure too.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    return fail("cannot write to standard output");
   return 0;
 }

@@ -17,16 +17,22 @@ bad() {
   failed=$((failed + 1))
 }
 
-# expect_error "substring" args...: exit code 1 (not a crash) and the substring on stderr.
+# expect_error "substring" args...: the error contract — exit code 1 (not a crash, not CLI11's
+# 105/106/109), exactly one line starting `penumbra:` on stderr, as its last line, holding the
+# substring.
 expect_error() {
   local want="$1"
   shift
   local err
-  err="$("$bin" "$@" 2>&1 >/dev/null)"
+  err="$(timeout 60 "$bin" "$@" 2>&1 >/dev/null)"
   local rc=$?
-  if [ "$rc" -ne 1 ] && [ "$rc" -ne 105 ] && [ "$rc" -ne 106 ] && [ "$rc" -ne 109 ]; then
-    bad "'$*' exited $rc (want a clean error): $err"
-  elif ! grep -q -- "$want" <<<"$err"; then
+  local lines
+  lines="$(grep -c '^penumbra:' <<<"$err")"
+  if [ "$rc" -ne 1 ]; then
+    bad "'${*:0:200}' exited $rc (want 1): ${err:0:400}"
+  elif [ "$lines" -ne 1 ] || ! tail -n 1 <<<"$err" | grep -q '^penumbra: '; then
+    bad "'${*:0:200}': want exactly one 'penumbra:' line, last: ${err:0:400}"
+  elif ! grep -qF -- "$want" <<<"$err"; then
     bad "'$*': message lacks '$want': $err"
   else
     ok
@@ -88,6 +94,47 @@ expect_error "cannot" compare "$work/nonexistent.exr" "$work/r/exact/visibility.
 printf 'garbage' >"$work/garbage.exr"
 expect_error "garbage.exr" compare "$work/garbage.exr" "$work/r/exact/visibility.exr"
 expect_error "info" info
+
+# The error contract for usage errors: CLI11's own errors are one `penumbra:` line and exit 1 too.
+expect_error "unknown command 'rendr' (did you mean 'render'?)" rendr --scene quad
+expect_error "a command is required" 
+expect_error "--out is required" render --scene quad --method exact
+expect_error "--scene is required" render --bogus-flag
+expect_error "--float-format" render --scene quad --method exact --float-format tiff --out "$work/x"
+expect_error "did you mean 'exact'?" render --scene quad --method exct --out "$work/x"
+expect_error "did you mean 'spheres'?" render --scene sphere --method exact --out "$work/x"
+expect_error "did you mean 'render'?" rnder
+# Integer options: parsed once, whole string, base 10.
+expect_error "'0x10' is not a base-10 integer" render --scene quad --method ssm --set ssm.resolution=0x10 --out "$work/x"
+expect_error "'0x20' is not a base-10 integer" render --scene quad --method gears --set gears.chunk=0x20 --out "$work/x"
+expect_error "'1e3' is not a base-10 integer" render --scene quad --method shadow_map --set shadow_map.resolution=1e3 --out "$work/x"
+# User strings are escaped and cut: no forged second line, no 3 MB echo.
+expect_error "unknown key 'fov\\nPWNED" render --scene "$data/scenes/broken/control_char_key.json" --method exact --out "$work/x"
+long_key="$(head -c 100000 /dev/zero | tr '\0' k)"  # (one argument may hold at most 128 KB)
+err="$("$bin" render --scene quad --method raytrace --set "raytrace.$long_key=1" --out "$work/x" 2>&1)"
+[ "${#err}" -lt 1000 ] && grep -q "100000 bytes" <<<"$err" && ok || bad "a 3 MB option key was echoed whole (${#err} bytes)"
+expect_error "has no option" render --scene quad --method raytrace --set "raytrace.a$(printf '\033')[2Jb=1" --out "$work/x"
+# Special files are refused at once, not read forever.
+mkfifo "$work/fifo.json"
+expect_error "not a regular file" render --scene "$work/fifo.json" --method exact --out "$work/x"
+expect_error "not a regular file" info "$work/fifo.json"
+printf '{"camera":{"position":[0,2,4],"target":[0,0,0]},"materials":[{"name":"g"}],"meshes":[{"file":"/dev/zero","material":"g"}],"lights":[{"type":"point","center":[0,3,0],"radiance":1}]}' >"$work/zero_mesh.json"
+expect_error "cannot load mesh '/dev/zero': not a regular file" info "$work/zero_mesh.json"
+# A frame that cannot fit in memory is refused up front with the estimate, not by bad_alloc.
+expect_error "needs about" render --scene quad --method all --size 16384x16384 --samples 64 --shading integrate --out "$work/x"
+# Write failures: exit 1, and nothing half-written under the final name.
+mkdir -p "$work/w/beauty.png"
+expect_error "cannot write" render --scene quad --method raytrace --samples 1 --size 8x8 --out "$work/w"
+[ -z "$(find "$work/w" -name '*.partial-*')" ] && ok || bad "a temporary file was left behind"
+: >"$work/a_file"
+expect_error "cannot create output folder" compare "$work/r/exact/visibility.exr" "$work/r/raytrace/visibility.exr" --out "$work/a_file/x"
+err="$("$bin" list 2>&1 >/dev/full)"
+rc=$?
+[ "$rc" -eq 1 ] && [ "$(grep -c '^penumbra: error: cannot write to standard output' <<<"$err")" -eq 1 ] && ok ||
+  bad "list >/dev/full: exit $rc: $err"
+expect_error "cannot compare images of different sizes" compare "$work/r/exact/visibility.exr" "$work/p/visibility.pfm"
+# --help shows defaults.
+"$bin" render --help | grep -q -- "--samples.*=16" && ok || bad "render --help lacks the --samples default"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

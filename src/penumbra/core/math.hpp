@@ -40,6 +40,33 @@ struct Bounds3 {
   float diagonal() const { return empty() ? 0.0f : glm::length(hi - lo); }
 };
 
+/// `v` made unit length in double, so that neither a tiny (1e-20) nor a huge (1e20) vector
+/// underflows or overflows its squared length; (0, 0, 0) for a zero or non-finite vector.
+inline Vec3 unit_vector(const Vec3& v) {
+  const DVec3 d(v);
+  const double len = glm::length(d);
+  return len > 0.0 && std::isfinite(len) ? Vec3(d / len) : Vec3(0.0f);
+}
+
+/// Unit normal of triangle (a, b, c), counter-clockwise, computed in double (see unit_vector).
+inline Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const DVec3 n = glm::cross(DVec3(b) - DVec3(a), DVec3(c) - DVec3(a));
+  const double len = glm::length(n);
+  return len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(0.0f);
+}
+
+/// |a × b| / (|a| |b|) in double, 0 when either is zero or not finite: the sine of the angle
+/// between two directions, independent of their lengths (relative, so it holds at any scale).
+inline double sine_between(const DVec3& a, const DVec3& b) {
+  const double la = glm::length(a), lb = glm::length(b);
+  if (!(la > 0.0) || !(lb > 0.0) || !std::isfinite(la) || !std::isfinite(lb)) return 0.0;
+  return glm::length(glm::cross(a / la, b / lb));
+}
+
+/// Directions closer than this (sine of their angle) count as parallel — the camera's view and
+/// up, a rectangle light's edges: float rounding would dominate their cross product.
+inline constexpr double kParallelSine = 1e-6;
+
 /// Any unit vector orthogonal to the unit vector n (Duff et al. 2017, branchless ONB).
 inline void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
   const float sign = std::copysign(1.0f, n.z);

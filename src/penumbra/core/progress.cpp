@@ -7,11 +7,25 @@
 
 namespace penumbra {
 
+namespace {
+std::atomic<bool> g_stderr_line_open{false};
+}  // namespace
+
+void set_stderr_line_open(bool open) {
+  g_stderr_line_open.store(open);
+}
+bool stderr_line_open() {
+  return g_stderr_line_open.load();
+}
+
 Progress::Progress(std::string label, size_t total)
     : label_(std::move(label)), total_(total), enabled_(enabled() && total > 0) {}
 
 Progress::~Progress() {
-  if (enabled_ && shown_percent_.load() >= 0) std::fprintf(stderr, "\r\033[K");
+  if (enabled_ && shown_percent_.load() >= 0) {
+    std::fprintf(stderr, "\r\033[K");  // the line is blank again, whatever preceded the bar
+    set_stderr_line_open(false);
+  }
 }
 
 bool Progress::enabled() {
@@ -27,6 +41,7 @@ void Progress::advance(size_t units) {
     if (shown_percent_.compare_exchange_weak(shown, percent)) {
       std::fprintf(stderr, "\r%s %3d%%", label_.c_str(), percent);
       std::fflush(stderr);
+      set_stderr_line_open(true);
       break;
     }
   }

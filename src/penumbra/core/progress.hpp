@@ -27,4 +27,9 @@ class Progress {
   bool enabled_;
 };
 
+/// Whether stderr holds an unterminated line (a progress percentage, a "method ..." status): an
+/// error printed then must start a fresh line rather than be appended to it.
+void set_stderr_line_open(bool open);
+bool stderr_line_open();
+
 }  // namespace penumbra

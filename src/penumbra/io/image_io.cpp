@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 
 namespace penumbra {
 namespace {
@@ -31,27 +32,19 @@ namespace fs = std::filesystem;
 constexpr int64_t kMaxDimension = 1 << 20;
 constexpr int64_t kMaxPixelsPerLayer = int64_t{1} << 28;
 
-std::string quoted(const fs::path& path) {
-  return "'" + path.string() + "'";
-}
-
-// Library messages (OpenEXR's in particular) may span lines; the CLI prints errors on one line.
-std::string one_line(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  std::replace(text.begin(), text.end(), '\r', ' ');
-  return text;
+std::string quote_path(const fs::path& path) {
+  return quote(path.string(), 200);
 }
 
 [[noreturn]] void fail(const char* what, const fs::path& path, const std::string& reason) {
-  throw Error(std::string(what) + " " + quoted(path) + ": " + one_line(reason));
+  // Library messages (OpenEXR's in particular) may span lines; the CLI prints errors on one line.
+  throw Error(std::string(what) + " " + quote_path(path) + ": " + one_line(reason));
 }
 
 /// Throws unless `path` names an existing regular file.
 void require_regular_file(const char* what, const fs::path& path) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) fail(what, path, "file not found");
-  if (!fs::is_regular_file(status)) fail(what, path, "not a regular file");
+  if (const std::string problem = regular_file_problem(path); !problem.empty())
+    fail(what, path, problem);
 }
 
 std::vector<unsigned char> read_all_bytes(const char* what, const fs::path& path) {
@@ -71,12 +64,13 @@ std::vector<unsigned char> read_all_bytes(const char* what, const fs::path& path
   return bytes;
 }
 
+/// Every write checked, and atomic (files.hpp): a full disk never leaves a truncated image.
 void write_all_bytes(const char* what, const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) fail(what, path, "cannot open file for writing");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) fail(what, path, "write error");
+  try {
+    write_text_file(path, bytes);
+  } catch (const Error& e) {
+    fail(what, path, e.what());
+  }
 }
 
 std::string lowercase_extension(const fs::path& path) {
@@ -146,7 +140,7 @@ int parse_dimension(const char* what, const fs::path& path, const std::string& t
   int64_t value = 0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (token.empty() || ec != std::errc() || end != token.data() + token.size())
-    fail(what, path, std::string("malformed header: invalid ") + name + " '" + token + "'");
+    fail(what, path, std::string("malformed header: invalid ") + name + " " + quote(token));
   if (value <= 0 || value > kMaxDimension)
     fail(what, path, std::string("malformed header: ") + name + " out of range (" + token + ")");
   return static_cast<int>(value);
@@ -164,10 +158,10 @@ void check_layers_for_exr(const fs::path& path, const std::vector<FloatLayer>& l
   std::set<std::string> names;
   for (const FloatLayer& layer : layers) {
     if (layer.name.empty()) fail(what, path, "layer with an empty name");
-    if (!names.insert(layer.name).second) fail(what, path, "duplicate layer '" + layer.name + "'");
+    if (!names.insert(layer.name).second) fail(what, path, "duplicate layer " + quote(layer.name));
     if (layer.pixels.width() != width || layer.pixels.height() != height) {
       fail(what, path,
-           "layer '" + layer.name + "' is " + std::to_string(layer.pixels.width()) + "x" +
+           "layer " + quote(layer.name) + " is " + std::to_string(layer.pixels.width()) + "x" +
                std::to_string(layer.pixels.height()) + ", expected " + std::to_string(width) + "x" +
                std::to_string(height));
     }
@@ -213,8 +207,16 @@ void write_png_rgb8(const fs::path& path, int width, int height, const std::vect
          "got " + std::to_string(rgb.size()) + " bytes for a " + std::to_string(width) + "x" +
              std::to_string(height) + " RGB image (expected " + std::to_string(expected) + ")");
   }
-  if (stbi_write_png(path.string().c_str(), width, height, 3, rgb.data(), width * 3) == 0)
-    fail(what, path, "stb_image_write failed (missing directory or not writable?)");
+  // Encoded in memory, then written with every write checked: stbi_write_png ignores fwrite
+  // errors and would report success on a full disk.
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+  };
+  if (stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3) == 0)
+    fail(what, path, "PNG encoding failed");
+  write_all_bytes(what, path, png);
 }
 
 // -----------------------------------------------------------------------------------------------
@@ -235,9 +237,13 @@ void write_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
     }
     // ZIP compresses blocks of 16 scanlines independently: OpenEXR's own threads share them.
     const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    Imf::OutputFile file(path.string().c_str(), header, threads);
-    file.setFrameBuffer(frame);
-    file.writePixels(height);
+    write_file_atomically(path, [&](const fs::path& temporary) {
+      Imf::OutputFile file(temporary.string().c_str(), header, threads);
+      file.setFrameBuffer(frame);
+      file.writePixels(height);
+    });  // OpenEXR throws on a failed write; the temporary is then removed
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     fail("cannot write EXR", path, e.what());
   }
@@ -327,7 +333,7 @@ std::vector<FloatLayer> read_pfm(const fs::path& path) {
       std::from_chars(scale_token.data(), scale_token.data() + scale_token.size(), scale);
   if (scale_token.empty() || ec != std::errc() || end != scale_token.data() + scale_token.size() ||
       !std::isfinite(scale) || scale == 0.0) {
-    fail(what, path, "malformed header: invalid scale '" + scale_token + "'");
+    fail(what, path, "malformed header: invalid scale " + quote(scale_token));
   }
   // Exactly one whitespace character separates the header from the raster.
   if (parser.pos >= bytes.size() || !is_pfm_space(bytes[parser.pos]))
@@ -366,7 +372,7 @@ std::vector<FloatLayer> read_float_image(const fs::path& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".exr") return read_exr(path);
   if (ext == ".pfm") return read_pfm(path);
-  fail("cannot read image", path, "unsupported format '" + ext + "' (expected .exr or .pfm)");
+  fail("cannot read image", path, "unsupported format " + quote(ext) + " (expected .exr or .pfm)");
 }
 
 }  // namespace penumbra

@@ -174,7 +174,7 @@ std::string error_map_label(double value) {
 
 void write_error_map_png(const std::filesystem::path& path, const Image<float>& abs_error,
                          double scale_max, const Image<float>* mask) {
-  const std::string where = "cannot write error map '" + path.string() + "': ";
+  const std::string where = "cannot write error map " + quote(path.string(), 200) + ": ";
   if (abs_error.empty()) throw Error(where + "error image is empty");
   if (!std::isfinite(scale_max) || !(scale_max > 0.0))
     throw Error(where + "scale_max must be finite and > 0 (got " + std::to_string(scale_max) + ")");

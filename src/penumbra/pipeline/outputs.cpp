@@ -1,5 +1,6 @@
 #include "penumbra/pipeline/outputs.hpp"
 
+#include <cmath>
 #include <fstream>
 
 #include "penumbra/core/error.hpp"
@@ -88,11 +89,30 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& g,
       for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<float>(g.mesh_id[i]);
       write_scalar("mesh_id", ids);
     } else {
-      throw Error("unknown AOV '" + aov +
-                  "' (known: position, normal, shading_normal, depth, uv, mesh_id)");
+      throw Error("unknown AOV " + quote(aov) +
+                  " (known: position, normal, shading_normal, depth, uv, mesh_id)");
     }
   }
 }
+
+namespace {
+
+/// Counters as JSON numbers. JSON has no NaN or infinity (nlohmann writes them as null, which
+/// reads back as "no value"): an undefined counter is left out and named in "undefined".
+nlohmann::json counters_json(const Counters& counters) {
+  nlohmann::json j = nlohmann::json::object();
+  nlohmann::json undefined = nlohmann::json::array();
+  for (const auto& [name, value] : counters) {
+    if (std::isfinite(value))
+      j[name] = value;
+    else
+      undefined.push_back(name);
+  }
+  if (!undefined.empty()) j["undefined"] = undefined;
+  return j;
+}
+
+}  // namespace
 
 nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
                           const ErrorStats* vs_exact) {
@@ -124,11 +144,11 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
     for (const auto& [name, value] : vis.counters) counters[name] += value;
     nlohmann::json lt = nlohmann::json::object();
     for (const auto& [stage, ms] : vis.times.stages()) lt[stage] = ms;
-    lights.push_back({{"times_ms", lt}, {"counters", vis.counters}});
+    lights.push_back({{"times_ms", lt}, {"counters", counters_json(vis.counters)}});
   }
   times["total"] = result.total_ms;
   j["times_ms"] = times;
-  j["counters"] = counters;
+  j["counters"] = counters_json(counters);
   if (result.per_light.size() > 1) j["lights"] = lights;
   j["frame"] = {{"bvh_build_ms", frame.embree().build_ms()},
                 {"gbuffer_ms", frame.gbuffer_ms()},

@@ -1,5 +1,6 @@
 #include "penumbra/render/gbuffer.hpp"
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/render/embree_scene.hpp"
 #include "penumbra/scene/camera.hpp"
@@ -18,7 +19,7 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
   g.mesh_id = Image<int32_t>(g.width, g.height, -1);
   g.prim_id = Image<int32_t>(g.width, g.height, -1);
   g.uv = Image<Vec2>(g.width, g.height, Vec2(0.0f));
-  g.ray_offset = kRayOffsetPerDiagonal * scene.bounds().diagonal();
+  g.ray_offset = Image<float>(g.width, g.height, 0.0f);
 
   const Camera::RayBasis rays = camera.ray_basis();
   parallel_rows(g.height, [&](int y) {
@@ -26,6 +27,8 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
     rtcInitIntersectContext(&context);
     for (int x = 0; x < g.width; ++x) {
       const Vec3 dir = rays.direction(static_cast<float>(x), static_cast<float>(y));
+      // validate_scene guarantees a finite camera basis; Embree aborts on a non-finite ray.
+      if (!is_finite(dir)) throw Error("internal: non-finite camera ray");
       RTCRayHit rh{};
       rh.ray.org_x = camera.position.x;
       rh.ray.org_y = camera.position.y;
@@ -49,7 +52,7 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
       // Barycentric reconstruction on the triangle, not org + t·dir: the point then lies on the
       // triangle's plane to float precision, which the shared offset policy relies on.
       const Vec3 world_pos = (1.0f - u - v) * p0 + u * p1 + v * p2;
-      Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+      Vec3 n = triangle_normal(p0, p1, p2);
       const bool flip = glm::dot(n, dir) > 0.0f;
       if (flip) n = -n;
       Vec3 ns = n;
@@ -63,6 +66,7 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
       g.world_pos[i] = world_pos;
       g.geo_normal[i] = n;
       g.shading_normal[i] = ns;
+      g.ray_offset[i] = ray_offset_for_triangle(p0, p1, p2);
       g.depth[i] = rh.ray.tfar;
       g.mesh_id[i] = mesh_index;
       g.prim_id[i] = static_cast<int32_t>(rh.hit.primID);

@@ -1,6 +1,7 @@
 // The G-buffer: per pixel, the first surface hit by one primary ray through the pixel centre.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "penumbra/core/image.hpp"
@@ -21,21 +22,32 @@ struct GBuffer {
   Image<int32_t> mesh_id;  // index into Scene::meshes; -1 = background
   Image<int32_t> prim_id;  // triangle index within the mesh
   Image<Vec2> uv;          // texture coordinates at the hit (0 without UVs)
-  /// Self-intersection offset (world units) of the shared policy below.
-  float ray_offset = 0.0f;
+  Image<float> ray_offset;  // self-intersection offset (world units) of the shared policy below
 
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
   bool is_background(size_t i) const { return mesh_id[i] < 0; }
 
   /// The one self-intersection policy every method shares: shadow rays, projections and
-  /// shadow-volume tests all start at the hit point moved `ray_offset` along the camera-facing
-  /// geometric normal. ray_offset = 1e-4 × the scene's bounding-box diagonal (set by
-  /// render_gbuffer): large enough that float rounding on the hit point never re-hits the
-  /// receiver, small enough to be invisible at any screen resolution we render.
-  Vec3 shadow_origin(size_t i) const { return world_pos[i] + ray_offset * geo_normal[i]; }
+  /// shadow-volume tests all start at the hit point moved `ray_offset[i]` along the
+  /// camera-facing geometric normal. The offset is relative to the hit triangle, as robust ray
+  /// tracers make it (the rounding of a reconstructed hit point and of a ray-triangle test grows
+  /// with the coordinates' magnitude): kRayOffsetRelative × the largest |coordinate| of the hit
+  /// triangle's vertices, which bounds both the point's magnitude and the triangle's extent (its
+  /// local feature size). It does not depend on anything else in the scene — a distant object
+  /// leaves every pixel's origin unchanged — and scales with the scene, so a scene rendered at
+  /// 1e-7 or 1e9 times its size gives the same image.
+  Vec3 shadow_origin(size_t i) const { return world_pos[i] + ray_offset[i] * geo_normal[i]; }
 };
 
-inline constexpr float kRayOffsetPerDiagonal = 1e-4f;
+/// About 80 float ulps of the triangle's coordinates: far above the few ulps of error of the
+/// barycentric hit point and Embree's watertight test, far below a pixel's footprint.
+inline constexpr float kRayOffsetRelative = 1e-5f;
+
+/// The shared offset for a hit on triangle (p0, p1, p2).
+inline float ray_offset_for_triangle(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  const Vec3 m = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::abs(p2));
+  return kRayOffsetRelative * std::max({m.x, m.y, m.z});
+}
 
 /// Traces one primary ray per pixel with Embree (all cores).
 GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera);

@@ -222,7 +222,7 @@ Scene make_builtin_scene(std::string_view name) {
   }
   std::string known;
   for (const Entry& e : entries()) known += (known.empty() ? "" : ", ") + e.info.name;
-  throw Error("unknown built-in scene '" + std::string(name) + "' (known: " + known + ")");
+  throw Error("unknown built-in scene " + quote(name) + " (known: " + known + ")");
 }
 
 double quad_scene_visible_fraction(double x, double y, double z) {

@@ -66,7 +66,7 @@ LightFrame light_frame(const Light& light, const Vec3& receiver_world_pos) {
       f.edge_u = light.edge_u;
       f.edge_v = light.edge_v;
       f.corner = light.center - 0.5f * (light.edge_u + light.edge_v);
-      f.emit_normal = glm::normalize(glm::cross(light.edge_u, light.edge_v));
+      f.emit_normal = unit_vector(glm::cross(light.edge_u, light.edge_v));
       return f;
     }
     case LightShape::disk:

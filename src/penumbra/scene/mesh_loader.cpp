@@ -5,23 +5,27 @@
 
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
+#include "penumbra/scene/mesh_header.hpp"
 
 namespace penumbra {
 
 namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& reason) {
-  throw Error("cannot load mesh '" + path.string() + "': " + reason);
+  throw Error("cannot load mesh " + quote(path.string(), 200) + ": " + reason);
 }
 
 /// One use of an aiMesh by a node, with the node's accumulated transform.
@@ -42,59 +46,6 @@ void collect_instances(const aiScene& scene, const aiNode* node, const aiMatrix4
   }
   for (unsigned i = 0; i < node->mNumChildren; ++i) {
     collect_instances(scene, node->mChildren[i], transform, out, depth + 1);
-  }
-}
-
-/// OFF and PLY headers state element counts up front and assimp allocates them before reading
-/// (assimp's own invalid/OutOfMemory.off claims 353535235358 faces: ~16 GB and 25 s before it
-/// fails). Every vertex or face takes at least one byte of the file, so a count larger than the
-/// file is a corrupt header: reject it before assimp sees it.
-void check_header_counts(const std::filesystem::path& path) {
-  std::error_code ec;
-  const uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) return;
-  std::ifstream in(path, std::ios::binary);
-  std::string head(4096, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(std::max<std::streamsize>(0, in.gcount())));
-
-  const auto check = [&](const std::string& count, const std::string& what) {
-    if (count.empty() ||
-        !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
-      return;  // not a plain count: leave the diagnosis to assimp
-    if (count.size() > 19 || std::stoull(count) > size)
-      fail(path, "corrupt header: " + count + " " + what + " in a file of " + std::to_string(size) +
-                     " bytes");
-  };
-
-  std::istringstream lines(head);
-  std::string line;
-  if (head.rfind("ply", 0) == 0) {
-    while (std::getline(lines, line)) {
-      std::string keyword, name, count;
-      std::istringstream(line) >> keyword >> name >> count;
-      if (keyword == "end_header") return;
-      if (keyword == "element") check(count, "'" + name + "' elements");
-    }
-    return;
-  }
-  // OFF: [ST][C][N][4][n]OFF [BINARY], then (for nOFF) the dimension, then "vertices faces edges";
-  // '#' starts a comment.
-  std::vector<std::string> tokens;
-  while (tokens.size() < 5 && std::getline(lines, line)) {
-    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    for (std::string w; tokens.size() < 5 && words >> w;) tokens.push_back(w);
-  }
-  if (tokens.empty() || tokens[0].size() < 3 ||
-      tokens[0].compare(tokens[0].size() - 3, 3, "OFF") != 0)
-    return;
-  size_t i = 1;
-  if (i < tokens.size() && tokens[i] == "BINARY") return;
-  if (tokens[0].find('n') != std::string::npos) ++i;  // nOFF: skip the dimension
-  if (i + 1 < tokens.size()) {
-    check(tokens[i], "vertices");
-    check(tokens[i + 1], "faces");
   }
 }
 
@@ -168,13 +119,37 @@ Mesh merge(const std::filesystem::path& path, const std::vector<MeshInstance>& i
   return out;
 }
 
+/// The whole file, after checking it is a regular file (a FIFO or /dev/zero would be read
+/// forever).
+std::string read_file(const std::filesystem::path& path) {
+  require_regular_file(path, "cannot load mesh");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) fail(path, "cannot read the file");
+  return std::move(text).str();
+}
+
+std::string lowercase_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory");
-  check_header_counts(path);
+  // OFF and PLY are validated in full before assimp sees them (mesh_header.hpp).
+  std::optional<MeshFileCounts> counts;
+  try {
+    counts = validate_mesh_file(read_file(path), lowercase_extension(path));
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).rfind("cannot load mesh", 0) == 0) throw;
+    fail(path, e.what());
+  } catch (const std::bad_alloc&) {
+    fail(path, "out of memory reading the file");
+  }
 
   try {
     Assimp::Importer importer;
@@ -196,7 +171,12 @@ Mesh load_mesh_file(const std::filesystem::path& path) {
     collect_instances(*scene, scene->mRootNode, aiMatrix4x4(), instances, 0);
     std::erase_if(instances, [](const MeshInstance& i) { return !is_triangle_mesh(*i.mesh); });
     if (instances.empty()) fail(path, "the file has no triangles");
-    return merge(path, instances);
+    Mesh mesh = merge(path, instances);
+    // Assimp must have read what the validated file holds: no clamped or invented faces.
+    if (counts && mesh.triangles.size() != counts->triangles)
+      fail(path, "assimp read " + std::to_string(mesh.triangles.size()) +
+                     " triangles where the file holds " + std::to_string(counts->triangles));
+    return mesh;
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {

@@ -1,5 +1,6 @@
 #include "penumbra/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -29,15 +30,58 @@ bool finite(float x) {
   return std::isfinite(x);
 }
 
+DVec3 dvec(const Vec3& v) {
+  return DVec3(v);
+}
+
+double max_abs(const DVec3& v) {
+  return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+}
+
+/// Every coordinate a ray is built from (vertices, camera, light points) must stay well inside
+/// Embree's valid ray range (|origin|, |direction| ≤ 1.8e18, `ray.valid()`) and leave float room
+/// for differences and squared lengths: beyond this the answer would be rounding noise.
+constexpr double kMaxCoordinate = 1e15;
+
+bool in_range(const Vec3& v) {
+  return is_finite(v) && max_abs(dvec(v)) <= kMaxCoordinate;
+}
+
+/// A triangle is degenerate when its area vanishes relative to its longest edge, in double:
+/// |e1 × e2| ≤ kDegenerateRelative · L². Relative, so a 5e9 quad and a 1e-12 one survive alike
+/// (float area² overflowed and underflowed there); only collapsed vertices and collinear corners
+/// (to well below float rounding) go.
+constexpr double kDegenerateRelative = 1e-10;
+
 size_t remove_degenerate_triangles(Mesh& mesh) {
   const size_t before = mesh.triangles.size();
   std::erase_if(mesh.triangles, [&](const Triangle& t) {
-    const Vec3 a = mesh.positions[t.v[0]], b = mesh.positions[t.v[1]], c = mesh.positions[t.v[2]];
-    const Vec3 n = glm::cross(b - a, c - a);
-    const float area2 = glm::dot(n, n);
-    return !(area2 > 0.0f) || !std::isfinite(area2);
+    const DVec3 a = dvec(mesh.positions[t.v[0]]), b = dvec(mesh.positions[t.v[1]]),
+                c = dvec(mesh.positions[t.v[2]]);
+    const DVec3 e1 = b - a, e2 = c - a, e3 = c - b;
+    const double longest2 = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+    const double twice_area = glm::length(glm::cross(e1, e2));
+    return !(twice_area > kDegenerateRelative * longest2);
   });
   return before - mesh.triangles.size();
+}
+
+/// Lights smaller than this fraction of the scene (its bounding-box diagonal, or the light's own
+/// distance from the origin, whichever is larger) are treated as point lights: their samples
+/// would collapse onto the centre in float anyway, and the area formulas (r², |u × v|) underflow.
+constexpr double kPointLightRelativeSize = 1e-6;
+
+double light_size(const Light& l) {
+  switch (l.shape) {
+    case LightShape::rect:
+      return std::max(glm::length(dvec(l.edge_u)), glm::length(dvec(l.edge_v)));
+    case LightShape::disk:
+    case LightShape::sphere:
+      return 2.0 * l.radius;
+    case LightShape::point:
+      return 0.0;
+  }
+  return 0.0;
 }
 
 }  // namespace
@@ -45,24 +89,27 @@ size_t remove_degenerate_triangles(Mesh& mesh) {
 size_t validate_scene(Scene& scene) {
   require(!scene.materials.empty(), "scene has no materials");
   for (const Material& m : scene.materials) {
-    require(is_finite(m.albedo), "material '" + m.name + "': albedo is not finite");
+    require(is_finite(m.albedo), "material " + quote(m.name) + ": albedo is not finite");
     require(m.alpha_texture < static_cast<int>(scene.textures.size()),
-            "material '" + m.name + "': alpha texture index out of range");
+            "material " + quote(m.name) + ": alpha texture index out of range");
     require(finite(m.transmittance) && m.transmittance >= 0.0f && m.transmittance < 1.0f,
-            "material '" + m.name + "': transmittance must be in [0, 1)");
+            "material " + quote(m.name) + ": transmittance must be in [0, 1)");
   }
   for (const Texture& t : scene.textures) {
     require(t.width > 0 && t.height > 0 && t.channels > 0 &&
                 t.texels.size() == static_cast<size_t>(t.width) * t.height * t.channels,
-            "texture '" + t.name + "': size does not match its texels");
+            "texture " + quote(t.name) + ": size does not match its texels");
   }
   size_t removed = 0;
   for (Mesh& mesh : scene.meshes) {
-    const std::string who = "mesh '" + mesh.name + "'";
+    const std::string who = "mesh " + quote(mesh.name);
     require(mesh.material >= 0 && mesh.material < static_cast<int>(scene.materials.size()),
             who + ": material index out of range");
-    for (const Vec3& p : mesh.positions)
+    for (const Vec3& p : mesh.positions) {
       require(is_finite(p), who + ": vertex position is NaN or infinite");
+      require(in_range(p),
+              who + ": vertex coordinate beyond 1e15 in magnitude (unsupported range)");
+    }
     for (const Triangle& t : mesh.triangles)
       for (uint32_t v : t.v)
         require(v < mesh.positions.size(), who + ": triangle index out of range");
@@ -77,40 +124,66 @@ size_t validate_scene(Scene& scene) {
   require(scene.triangle_count() > 0, "scene has no (non-degenerate) triangles");
 
   require(!scene.lights.empty(), "scene has no lights");
-  for (const Light& l : scene.lights) {
-    const std::string who = "light '" + l.name + "'";
+  const double scene_size = scene.bounds().diagonal();
+  for (Light& l : scene.lights) {
+    const std::string who = "light " + quote(l.name);
     require(is_finite(l.center) && is_finite(l.radiance),
             who + ": position or radiance not finite");
+    require(in_range(l.center), who + ": centre beyond 1e15 in magnitude (unsupported range)");
     require(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0,
             who + ": negative radiance");
     switch (l.shape) {
       case LightShape::rect:
         require(is_finite(l.edge_u) && is_finite(l.edge_v), who + ": edges not finite");
-        require(glm::length(glm::cross(l.edge_u, l.edge_v)) > 1e-12f,
-                who + ": rectangle has zero area");
+        require(max_abs(dvec(l.center)) + max_abs(dvec(l.edge_u)) + max_abs(dvec(l.edge_v)) <=
+                    kMaxCoordinate,
+                who + ": extends beyond 1e15 in magnitude (unsupported range)");
+        require(sine_between(dvec(l.edge_u), dvec(l.edge_v)) > kParallelSine,
+                who + ": rectangle has zero area (edges zero or parallel)");
         require(l.emission_texture < static_cast<int>(scene.textures.size()),
                 who + ": emission texture index out of range");
         break;
       case LightShape::disk:
-        require(is_finite(l.normal) && glm::length(l.normal) > 1e-12f,
+        require(is_finite(l.normal) && glm::length(dvec(l.normal)) > 0.0,
                 who + ": disk normal is zero");
-        require(finite(l.radius) && l.radius > 0.0f, who + ": radius must be positive");
-        break;
+        [[fallthrough]];
       case LightShape::sphere:
         require(finite(l.radius) && l.radius > 0.0f, who + ": radius must be positive");
+        require(max_abs(dvec(l.center)) + l.radius <= kMaxCoordinate,
+                who + ": extends beyond 1e15 in magnitude (unsupported range)");
         break;
       case LightShape::point:
         break;
     }
     require(l.emission_texture < 0 || l.shape == LightShape::rect,
             who + ": only rectangle lights may have an emission texture");
+    if (l.shape != LightShape::point && l.emission_texture < 0 &&
+        light_size(l) <= kPointLightRelativeSize * std::max(scene_size, max_abs(dvec(l.center)))) {
+      // The documented fallback for a vanishing light: a point light of the same power along
+      // its axis (intensity = radiance × area, computed in double; the area may underflow float).
+      double area = 0.0;
+      if (l.shape == LightShape::rect)
+        area = glm::length(glm::cross(dvec(l.edge_u), dvec(l.edge_v)));
+      else
+        area = kPi * double{l.radius} * l.radius;  // a sphere shows its silhouette disk
+      l.radiance = Vec3(DVec3(l.radiance) * area);
+      l.shape = LightShape::point;
+      l.edge_u = l.edge_v = Vec3(0.0f);
+      l.radius = 0.0f;
+    }
   }
 
+  // The camera basis in double, after normalising: finite, the view direction resolvable in
+  // float at the camera's magnitude, and not parallel to `up`.
   const Camera& c = scene.camera;
   require(is_finite(c.position) && is_finite(c.target) && is_finite(c.up), "camera: not finite");
-  require(glm::length(c.target - c.position) > 0.0f, "camera: target equals position");
-  require(glm::length(glm::cross(c.target - c.position, c.up)) > 0.0f,
-          "camera: up is parallel to the view direction");
+  require(in_range(c.position) && in_range(c.target),
+          "camera: position or target beyond 1e15 in magnitude (unsupported range)");
+  const DVec3 view = dvec(c.target) - dvec(c.position);
+  require(glm::length(view) > 1e-6 * std::max(max_abs(dvec(c.position)), max_abs(dvec(c.target))),
+          "camera: target equals position (or is too close to resolve in float)");
+  require(sine_between(view, dvec(c.up)) > kParallelSine,
+          "camera: up is zero or parallel to the view direction");
   require(finite(c.vfov_deg) && c.vfov_deg > 0.0f && c.vfov_deg < 180.0f,
           "camera: fov must be in (0, 180) degrees");
   require(c.width > 0 && c.height > 0 && c.width <= 16384 && c.height <= 16384,

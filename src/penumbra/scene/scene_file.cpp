@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
+#include "penumbra/core/suggest.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/shapes.hpp"
@@ -40,22 +42,7 @@ std::string join(const std::vector<std::string>& items, const std::string& sep =
 }
 
 std::string in_quotes(const std::string& s) {
-  return "'" + s + "'";
-}
-
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
+  return quote(s, 200);
 }
 
 // ---- typed values -----------------------------------------------------------------------------
@@ -171,19 +158,7 @@ class Obj {
     if (!j.is_object()) expected(path_.empty() ? "top level" : path_, "an object", j);
     for (const auto& item : j.items()) {
       if (std::find(allowed.begin(), allowed.end(), item.key()) != allowed.end()) continue;
-      std::string msg = "unknown key " + in_quotes(item.key());
-      std::string best;
-      size_t best_d = std::numeric_limits<size_t>::max();
-      for (const std::string& a : allowed) {
-        // A likely typo: a small edit distance, or one name a prefix of the other (fov, fov_deg).
-        const std::string& key = item.key();
-        const size_t d = edit_distance(key, a);
-        const bool prefix =
-            std::min(key.size(), a.size()) >= 3 && (a.rfind(key, 0) == 0 || key.rfind(a, 0) == 0);
-        const size_t limit = std::max<size_t>(2, key.size() / 3);
-        if ((d <= limit || prefix) && d < best_d) best_d = d, best = a;
-      }
-      if (!best.empty()) msg += " (did you mean " + in_quotes(best) + "?)";
+      std::string msg = "unknown key " + in_quotes(item.key()) + did_you_mean(item.key(), allowed);
       msg += " (allowed: " + join(allowed) + ")";
       fail(path_, msg);
     }
@@ -296,12 +271,13 @@ class TextureCache {
     const std::string key = (emission ? "E:" : "A:") + file.lexically_normal().string();
     if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
 
+    if (const std::string problem = regular_file_problem(file); !problem.empty())
+      fail(path, "cannot load texture " + in_quotes(file.string()) + ": " + problem);
     int w = 0, h = 0, n = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
         stbi_load(file.string().c_str(), &w, &h, &n, emission ? 3 : 0), stbi_image_free);
     if (!pixels) {
-      std::error_code ec;
-      const char* why = fs::exists(file, ec) ? stbi_failure_reason() : "no such file";
+      const char* why = stbi_failure_reason();
       fail(path, "cannot load texture " + in_quotes(file.string()) + ": " +
                      (why ? why : "unknown error"));
     }
@@ -354,7 +330,7 @@ Camera parse_camera(const json& j) {
   c.width = o.integer("width", c.width, 1, 16384);
   c.height = o.integer("height", c.height, 1, 16384);
   if (c.target == c.position) fail(o.at("target"), "equals camera.position");
-  if (glm::length(glm::cross(c.target - c.position, c.up)) <= 0.0f)
+  if (sine_between(DVec3(c.target) - DVec3(c.position), DVec3(c.up)) <= kParallelSine)
     fail(o.at("up"), "is zero or parallel to the view direction");
   return c;
 }
@@ -420,8 +396,14 @@ Mat4 parse_transform(const json& j, const std::string& path) {
     m = glm::rotate(m, r.x, Vec3(1, 0, 0));
     m = glm::scale(m, s);
   }
-  const float det = glm::determinant(glm::mat3(m));
-  if (!std::isfinite(det) || std::fabs(det) < 1e-12f) fail(path, "is singular (zero volume)");
+  // Singular relative to the columns' lengths, in double: a uniform scale of 1e-4 (det 1e-12) is
+  // a legitimate transform, a flattening one is not, whatever the scale.
+  const glm::dmat3 linear(glm::mat3{m});
+  const double volume_bound =
+      glm::length(linear[0]) * glm::length(linear[1]) * glm::length(linear[2]);
+  const double det = glm::determinant(linear);
+  if (!std::isfinite(det) || !(std::fabs(det) > 1e-9 * volume_bound))
+    fail(path, "is singular (zero volume)");
   return m;
 }
 
@@ -478,7 +460,8 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
     mesh.name = file.stem().string();
   } else if (shape == "quad") {
     const Vec3 center = o.vec3("center"), eu = o.vec3("edge_u"), ev = o.vec3("edge_v");
-    if (!(glm::length(glm::cross(eu, ev)) > 0.0f)) fail(path, "edge_u and edge_v span zero area");
+    if (!(sine_between(DVec3(eu), DVec3(ev)) > kParallelSine))
+      fail(path, "edge_u and edge_v span zero area");
     mesh = make_quad(center, eu, ev);
   } else if (shape == "box") {
     const Vec3 center = o.vec3("center"), half = o.vec3("half_extent");
@@ -542,7 +525,7 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
     case LightShape::rect:
       l.edge_u = o.vec3("edge_u");
       l.edge_v = o.vec3("edge_v");
-      if (!(glm::length(glm::cross(l.edge_u, l.edge_v)) > 1e-12f))
+      if (!(sine_between(DVec3(l.edge_u), DVec3(l.edge_v)) > kParallelSine))
         fail(path, "edge_u and edge_v span zero area");
       l.two_sided = o.boolean("two_sided", false);
       if (const json* v = o.find("emission_texture"))
@@ -550,8 +533,8 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
       break;
     case LightShape::disk: {
       const Vec3 n = o.vec3("normal");
-      if (!(glm::length(n) > 0.0f)) fail(o.at("normal"), "must be nonzero");
-      l.normal = glm::normalize(n);
+      if (!(glm::length(DVec3(n)) > 0.0)) fail(o.at("normal"), "must be nonzero");
+      l.normal = Vec3(glm::normalize(DVec3(n)));  // in double: a tiny normal does not underflow
       l.radius = o.positive("radius");
       break;
     }
@@ -590,9 +573,7 @@ Scene parse_scene(const json& j, const fs::path& base) {
 
 Scene load_scene_file(const fs::path& path) {
   try {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) fail("", "no such file");
-    if (fs::is_directory(path, ec)) fail("", "is a directory, not a scene file");
+    if (const std::string problem = regular_file_problem(path); !problem.empty()) fail("", problem);
     std::ifstream in(path, std::ios::binary);
     if (!in) fail("", "cannot open the file");
     std::ostringstream text;
@@ -607,9 +588,9 @@ Scene load_scene_file(const fs::path& path) {
     validate_scene(scene);
     return scene;
   } catch (const Error& e) {
-    throw Error("scene file '" + path.string() + "': " + e.what());
+    throw Error("scene file " + quote(path.string(), 200) + ": " + e.what());
   } catch (const std::bad_alloc&) {
-    throw Error("scene file '" + path.string() + "': out of memory");
+    throw Error("scene file " + quote(path.string(), 200) + ": out of memory");
   }
 }
 
@@ -620,8 +601,8 @@ Scene load_scene(std::string_view name_or_path) {
   if (fs::exists(path, ec)) return load_scene_file(path);
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
-  throw Error("unknown scene '" + std::string(name_or_path) + "': not a built-in scene (" +
-              join(names) + ") nor an existing scene file");
+  throw Error("unknown scene " + quote(name_or_path, 200) + did_you_mean(name_or_path, names) +
+              ": not a built-in scene (" + join(names) + ") nor an existing scene file");
 }
 
 }  // namespace penumbra

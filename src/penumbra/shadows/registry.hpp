@@ -26,6 +26,13 @@ struct OptionSpec {
   double max = 1e300;
 };
 
+/// One option value, parsed once when it is resolved.
+struct OptionValue {
+  std::string text;       // canonical text: what stats.json records
+  double real = 0.0;      // integer and real options
+  long long integer = 0;  // integer options; 1/0 for booleans
+};
+
 /// Validated option values of one method.
 class MethodOptions {
  public:
@@ -38,8 +45,10 @@ class MethodOptions {
  private:
   friend MethodOptions resolve_options(const struct MethodInfo&,
                                        const std::map<std::string, std::string>&);
-  const std::string& raw(const std::string& key) const;
-  std::map<std::string, std::string> values_;
+  const OptionValue& parsed(const std::string& key) const;
+  void set(const std::string& key, OptionValue value);
+  std::map<std::string, std::string> values_;  // canonical texts, for the records
+  std::map<std::string, OptionValue> parsed_;
 };
 
 struct MethodInfo {

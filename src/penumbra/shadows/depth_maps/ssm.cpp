@@ -92,6 +92,9 @@ struct Patch {
   int i0, i1, j0, j1;  // soft-shadow-map texel range of the penumbra extent (inclusive)
 };
 
+/// Receiver-map depths within this fraction of a point's own depth are the same receiver.
+constexpr double kSameReceiverDepth = 0.05;
+
 class Ssm final : public ShadowMethod {
  public:
   explicit Ssm(const MethodOptions& o)
@@ -260,7 +263,11 @@ class Ssm final : public ShadowMethod {
         const double fu = std::floor(u), fv = std::floor(v);
         if (!(fu >= -1.0 && fu < sw.w && fv >= -1.0 && fv < sw.h)) continue;
         const int i0 = static_cast<int>(fu), j0 = static_cast<int>(fv);
-        double sum = 0.0, wsum = 0.0, nearest_w = -1.0, nearest_z = kInfinity;
+        // Bilinear over the four texels, preferring those whose receiver depth is this point's:
+        // a texel holding a nearer receiver (an occluder that also receives) carries that
+        // receiver's occlusion, not this point's, and mixing it in flips pixels along the
+        // boundary at the mercy of sub-texel shifts.
+        double sum = 0.0, wsum = 0.0, same_sum = 0.0, same_wsum = 0.0;
         for (int dj = 0; dj < 2; ++dj)
           for (int di = 0; di < 2; ++di) {
             const int ti = i0 + di, tj = j0 + dj;
@@ -270,15 +277,20 @@ class Ssm final : public ShadowMethod {
             const double w = (di ? u - fu : 1.0 - (u - fu)) * (dj ? v - fv : 1.0 - (v - fv));
             sum += w * merged(ti, tj);
             wsum += w;
-            if (w > nearest_w) {
-              nearest_w = w;
-              nearest_z = zr;
+            if (std::abs(zr - l.z) <= kSameReceiverDepth * l.z) {
+              same_sum += w * merged(ti, tj);
+              same_wsum += w;
             }
           }
         if (!(wsum > 0.0)) continue;
-        // A receiver hidden from the light centre by a nearer receiver reads the nearer one's
-        // occlusion (the receiver map keeps one depth per texel): counted, not corrected.
-        local_hidden += std::abs(nearest_z - l.z) > 0.05 * l.z;
+        if (same_wsum > 0.0) {
+          sum = same_sum;
+          wsum = same_wsum;
+        }
+        // A receiver with no texel at its own depth, hidden from the light centre by a nearer
+        // receiver, reads the nearer one's occlusion (the receiver map keeps one depth per
+        // texel): counted, not corrected.
+        local_hidden += same_wsum == 0.0;
         vis.lit[i] = static_cast<float>(1.0 - std::clamp(sum / wsum, 0.0, 1.0));
       }
       hidden += local_hidden;

@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (Debian clang, -fsanitize=fuzzer,address,undefined) and runs each for
+# a bounded time; any crash, hang, leak or sanitizer report fails the run.
+#   scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]   (targets: scene mesh)
+# Findings (crash-*, timeout-*, oom-* files) and the grown corpora stay under build/fuzz/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+shift || true
+targets=("$@")
+[ "${#targets[@]}" -gt 0 ] || targets=(scene mesh)
+scripts/setup.sh
+out=build/fuzz
+mkdir -p "$out"
+
+# The project's sources the targets exercise (core, io, scene), compiled with clang and the
+# sanitizers; the Debian libraries they use are linked as built.
+sources=(src/penumbra/core/*.cpp src/penumbra/io/*.cpp src/penumbra/scene/*.cpp)
+flags=(-std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
+       -fno-sanitize-recover=undefined -DGLM_FORCE_XYZW_ONLY -Isrc
+       $(pkg-config --cflags OpenEXR stb))
+libs=($(pkg-config --libs OpenEXR assimp tbb stb))
+
+# Each source compiled once (rebuilt when it or any header is newer), shared by both targets.
+mkdir -p "$out/obj"
+newest_header="$(find src -name '*.hpp' -printf '%T@ %p\n' | sort -n | tail -1 | cut -d' ' -f2)"
+objects=()
+for src in "${sources[@]}"; do
+  obj="$out/obj/$(echo "$src" | tr / _).o"
+  if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ "$newest_header" -nt "$obj" ]; then
+    echo "compiling $src"
+    clang++ "${flags[@]/-fsanitize=fuzzer,address,undefined/-fsanitize=fuzzer-no-link,address,undefined}" -c "$src" -o "$obj"
+  fi
+  objects+=("$obj")
+done
+for t in "${targets[@]}"; do
+  bin="$out/fuzz_$t"
+  echo "linking $bin"
+  clang++ "${flags[@]}" "fuzz/fuzz_$t.cpp" "${objects[@]}" "${libs[@]}" -o "$bin"
+done
+
+# Seed corpora from tests/data: scene files for the scene target; meshes (format byte first).
+seed() {
+  local t="$1" dir="$out/corpus_$1"
+  mkdir -p "$dir"
+  if [ "$t" = scene ]; then
+    cp tests/data/scenes/*.json tests/data/scenes/broken/*.json "$dir/" 2>/dev/null || true
+  else
+    local i=0
+    for f in tests/data/scenes/*.off tests/data/scenes/broken/*.off tests/data/meshes/broken/*.off; do
+      [ -f "$f" ] && { printf '\x00'; cat "$f"; } >"$dir/off_$((i++))"
+    done
+    for f in tests/data/scenes/broken/*.ply tests/data/meshes/broken/*.ply; do
+      [ -f "$f" ] && { printf '\x01'; cat "$f"; } >"$dir/ply_$((i++))"
+    done
+    for f in tests/data/scenes/*.obj tests/data/scenes/broken/*.obj; do
+      [ -f "$f" ] && { printf '\x02'; cat "$f"; } >"$dir/obj_$((i++))"
+    done
+    printf '\x03solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$dir/stl_ascii"
+  fi
+}
+
+suppressions="$(pwd)/fuzz/lsan.supp"
+status=0
+for t in "${targets[@]}"; do
+  seed "$t"
+  echo "fuzzing $t for ${seconds}s"
+  # -timeout: an input taking over 10 s is a hang; -rss_limit_mb: a runaway allocation is a finding.
+  if ! (cd "$out" && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$suppressions" \
+    UBSAN_OPTIONS=print_stacktrace=1 \
+    "./fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    -print_final_stats=1 -artifact_prefix="$t-" "corpus_$t" >"fuzz_$t.log" 2>&1); then
+    echo "FINDING in $t: see $out/fuzz_$t.log and $out/$t-*"
+    tail -40 "$out/fuzz_$t.log"
+    status=1
+  else
+    grep -E "stat::number_of_executed_units|Done" "$out/fuzz_$t.log" | tail -2
+  fi
+done
+exit "$status"
