@@ -8,6 +8,7 @@ PACKAGES=(
   libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
   libcli11-dev nlohmann-json3-dev libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
+  chromium  # the report's browser test (tests/report/browser_test.sh)
 )
 
 missing=()

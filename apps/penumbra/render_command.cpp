@@ -8,11 +8,12 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "method_args.hpp"
 #include "penumbra/core/error.hpp"
 #include "penumbra/metrics/error_map.hpp"
 #include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/report/summary_table.hpp"
 #include "penumbra/scene/scene_file.hpp"
-#include "report_table.hpp"
 
 namespace penumbra::cli {
 
@@ -30,49 +31,8 @@ struct RenderArgs {
   std::string float_format = "exr";
   std::vector<std::string> aovs;
   std::string shading = "modulate";
+  FramingArgs framing;
 };
-
-void parse_size(const std::string& text, Camera& camera) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w < 1 || h < 1 || w > 16384 || h > 16384)
-    throw Error("--size: expected WxH with 1..16384 pixels each, got '" + text + "'");
-  camera.width = w;
-  camera.height = h;
-}
-
-/// --set method.key=value, grouped by method.
-std::map<std::string, std::map<std::string, std::string>> parse_sets(
-    const std::vector<std::string>& sets) {
-  std::map<std::string, std::map<std::string, std::string>> out;
-  for (const std::string& s : sets) {
-    const size_t dot = s.find('.'), eq = s.find('=');
-    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 ||
-        eq == dot + 1)
-      throw Error("--set: expected method.option=value, got '" + s + "'");
-    out[s.substr(0, dot)][s.substr(dot + 1, eq - dot - 1)] = s.substr(eq + 1);
-  }
-  return out;
-}
-
-std::vector<const MethodInfo*> selected_methods(const std::vector<std::string>& names) {
-  const MethodRegistry& registry = MethodRegistry::builtin();
-  std::vector<const MethodInfo*> out;
-  for (const std::string& name : names) {
-    if (name == "all") {
-      for (const MethodInfo& m : registry.methods()) out.push_back(&m);
-    } else {
-      out.push_back(&registry.get(name));
-    }
-  }
-  // `exact` first: every other method is measured against it.
-  std::stable_sort(out.begin(), out.end(), [](const MethodInfo* a, const MethodInfo* b) {
-    return a->name == "exact" && b->name != "exact";
-  });
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
 
 void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   std::ofstream f(path);
@@ -81,30 +41,15 @@ void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
 }
 
 void run_render(const RenderArgs& args) {
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, to_framing(args.framing));
   if (!args.size.empty()) parse_size(args.size, scene.camera);
-  const auto pattern = parse_sample_pattern(args.pattern);
-  if (!pattern) throw Error("--pattern: unknown light-sample pattern '" + args.pattern + "'");
+  const SamplePattern pattern = parse_pattern(args.pattern);
   const ShadingMode shading =
       args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
   const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
 
   const std::vector<const MethodInfo*> methods = selected_methods(args.methods);
-  const auto sets = parse_sets(args.sets);
-  for (const auto& [name, values] : sets) {
-    MethodRegistry::builtin().get(name);  // unknown method → error
-    if (std::none_of(methods.begin(), methods.end(),
-                     [&](const MethodInfo* m) { return m->name == name; }))
-      std::fprintf(stderr, "penumbra: warning: --set for '%s', which is not rendered\n",
-                   name.c_str());
-  }
-  // Resolve every method's options before the (long) frame starts, so bad options fail fast.
-  std::vector<MethodOptions> options;
-  for (const MethodInfo* m : methods) {
-    const auto it = sets.find(m->name);
-    options.push_back(
-        resolve_options(*m, it == sets.end() ? std::map<std::string, std::string>{} : it->second));
-  }
+  const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
 
   const std::filesystem::path out_dir = args.out;
   std::error_code ec;
@@ -112,7 +57,7 @@ void run_render(const RenderArgs& args) {
   if (ec) throw Error("cannot create output folder " + out_dir.string() + ": " + ec.message());
 
   LightSampleSpec spec;
-  spec.pattern = *pattern;
+  spec.pattern = pattern;
   spec.k = args.samples;
   spec.seed = args.seed;
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
@@ -147,11 +92,11 @@ void run_render(const RenderArgs& args) {
     stats["shading"] = std::string(to_string(shading));
     write_json(dir / "stats.json", stats);
 
-    rows.push_back({result.method, result.total_ms, error});
+    rows.push_back({result.method, result.total_ms, error, ""});
     if (result.method == "exact") exact = std::move(result);
   }
   if (several) {
-    const std::string table = format_table(rows);
+    const std::string table = format_summary(rows, frame, std::string(to_string(shading)));
     std::printf("%s", table.c_str());
     std::ofstream(out_dir / "summary.md") << table;
     write_json(out_dir / "summary.json", table_json(rows, frame));
@@ -163,7 +108,9 @@ void run_render(const RenderArgs& args) {
 void add_render_command(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene with one or more shadow methods");
-  cmd->add_option("--scene", args->scene, "Built-in scene name or scene .json file")->required();
+  cmd->add_option("--scene", args->scene,
+                  "Built-in scene name, scene .json file or model file (OBJ, PLY, glTF, ...)")
+      ->required();
   cmd->add_option("--method", args->methods, "Method name (repeatable) or 'all'")->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
       ->check(CLI::Range(1, 64));
@@ -182,6 +129,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--shading", args->shading,
                   "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
       ->check(CLI::IsMember({"modulate", "integrate"}));
+  add_framing_options(*cmd, args->framing);
   cmd->callback([args] { run_render(*args); });
 }
 
