@@ -85,8 +85,8 @@ void add_framing_options(CLI::App& cmd, FramingArgs& args) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd.add_option("--up", args.up,
-                 "Model file scenes: the model's up axis, y, z or auto (z for STL, 3MF, AMF, "
-                 "3DS, Blender, IFC; y otherwise)")
+                 "Model file scenes: the model's up axis, y, z or auto (the axis with more "
+                 "triangle area at its bottom; y unless z has twice as much)")
       ->check(CLI::IsMember({"y", "z", "auto"}))
       ->capture_default_str();
 }

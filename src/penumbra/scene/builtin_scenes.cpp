@@ -188,6 +188,12 @@ Scene frame_model(Mesh model, const std::string& name, const ModelFraming& frami
   s.camera.position = Vec3(1.5f, 1.2f, 1.5f);
   s.camera.target = model_center;
   s.camera.vfov_deg = 45.0f;
+  if (framing.fit_camera) {
+    const float radius = 0.5f;  // of the bounding sphere: the diagonal is 1
+    const float distance = radius / std::sin(glm::radians(0.5f * s.camera.vfov_deg));
+    s.camera.position =
+        model_center + distance * glm::normalize(Vec3(1.5f, 1.2f, 1.5f) - model_center);
+  }
   return s;
 }
 
@@ -199,7 +205,9 @@ Scene model_scene(const std::string& name, const std::string& file_name) {
     throw Error("scene '" + name + "' needs " + file_name + ", which is not in " +
                 models_dir().string() + ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
   }
-  return frame_model(load_mesh_file(*path), name, ModelFraming{}, *path);
+  ModelFraming benchmark_layout;
+  benchmark_layout.fit_camera = false;
+  return frame_model(load_mesh_file(*path), name, benchmark_layout, *path);
 }
 
 struct Entry {

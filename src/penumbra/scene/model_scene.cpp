@@ -1,7 +1,6 @@
 #include "penumbra/scene/model_scene.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 
 #include "penumbra/core/error.hpp"
@@ -27,12 +26,21 @@ ModelUp parse_model_up(std::string_view text) {
   throw Error("--up: expected y, z or auto, got '" + std::string(text) + "'");
 }
 
-ModelUp resolve_model_up(ModelUp up, const std::filesystem::path& file) {
+ModelUp resolve_model_up(ModelUp up, const Mesh& model) {
   if (up != ModelUp::automatic) return up;
-  static const std::array<const char*, 7> z_up = {".stl",   ".3mf", ".amf",   ".3ds",
-                                                  ".blend", ".ifc", ".ifczip"};
-  const std::string ext = lower_extension(file);
-  return std::find(z_up.begin(), z_up.end(), ext) != z_up.end() ? ModelUp::z : ModelUp::y;
+  const Bounds3 b = model.bounds();
+  const float slab = 0.02f * b.diagonal();
+  // Area of the triangles lying in the lowest slab along axis `a` (1 = y, 2 = z).
+  const auto support = [&](int a) {
+    double area = 0.0;
+    for (size_t t = 0; t < model.triangles.size(); ++t) {
+      const Vec3 p0 = model.vertex(t, 0), p1 = model.vertex(t, 1), p2 = model.vertex(t, 2);
+      if (std::max({p0[a], p1[a], p2[a]}) <= b.lo[a] + slab)
+        area += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+    }
+    return area;
+  };
+  return support(2) > 2.0 * support(1) ? ModelUp::z : ModelUp::y;
 }
 
 bool is_model_path(const std::filesystem::path& path) {
@@ -41,8 +49,9 @@ bool is_model_path(const std::filesystem::path& path) {
 
 Scene load_model_scene(const std::filesystem::path& file, const ModelFraming& framing) {
   ModelFraming f = framing;
-  f.up = resolve_model_up(framing.up, file);
-  Scene s = frame_model(load_mesh_file(file), file.stem().string(), f, file);
+  Mesh model = load_mesh_file(file);
+  f.up = resolve_model_up(framing.up, model);
+  Scene s = frame_model(std::move(model), file.stem().string(), f, file);
   validate_scene(s);
   return s;
 }

@@ -11,20 +11,26 @@
 
 namespace penumbra {
 
-/// Which model axis points up. `automatic`: z for the formats whose convention is Z-up (STL, 3MF,
-/// AMF, 3DS, Blender, IFC: CAD and 3D-printing formats) and y for every other one (OBJ, PLY,
-/// OFF, glTF — Y-up by its specification —, FBX and COLLADA, whose up axis assimp applies).
+/// Which model axis points up. `automatic` looks at the geometry, since file formats do not say
+/// reliably (STL files come both ways): a model stands on its base, so the axis whose lowest 2%
+/// slab holds the larger area of triangles (the feet, the base plate, the cut bottom of a scan)
+/// is up; z wins only with more than twice y's area, as most formats (OBJ, glTF, PLY, ...) are
+/// Y-up.
 enum class ModelUp { y, z, automatic };
 
 /// Parses "y", "z" or "auto"; throws Error otherwise.
 ModelUp parse_model_up(std::string_view text);
-/// The axis `up` means for `file` (resolves `automatic` by the file's extension).
-ModelUp resolve_model_up(ModelUp up, const std::filesystem::path& file);
+/// The axis `up` means for `model` (resolves `automatic` from the geometry).
+ModelUp resolve_model_up(ModelUp up, const Mesh& model);
 
 struct ModelFraming {
   float light_size = 0.5f;    // side of the square light, in model diagonals
   float light_height = 2.0f;  // light centre above the model's centre, in model diagonals
   ModelUp up = ModelUp::automatic;
+  /// Move the camera along the `bunny` view direction until the model's bounding sphere just
+  /// fills the vertical field of view. The built-in model scenes keep the fixed benchmark camera
+  /// at (1.5, 1.2, 1.5) (where the bunny covers 6% of the image, a thin model 3%).
+  bool fit_camera = true;
 };
 
 /// The model-to-world matrix of the layout: `up` turned to +y, scaled to a diagonal of 1,
