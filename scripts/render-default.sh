@@ -10,4 +10,9 @@ scripts/build.sh release --target penumbra_cli
 ./build/release/penumbra render --scene default --method all --out out/default "$@"
 echo
 echo "report (open in a browser):"
-./build/release/penumbra report --scene default --method all --out out/default/report "$@" 2>/dev/null
+mkdir -p out/default
+if ! ./build/release/penumbra report --scene default --method all --out out/default/report \
+  2>out/default/report.log; then
+  cat out/default/report.log >&2
+  exit 1
+fi

@@ -1,4 +1,5 @@
 // index.html, report.json and results.md from the measured ReportData.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -96,6 +97,15 @@ window.addEventListener('load', function () {
   document.body.dataset.imagesBroken = broken;
 });
 )js";
+
+/// Errors below this are float rounding of an exact method: drawn at it on log axes.
+constexpr double kErrorFloor = 1e-6;
+
+std::vector<double> floored(std::vector<double> errors) {
+  for (double& e : errors)
+    if (std::isfinite(e)) e = std::max(e, kErrorFloor);
+  return errors;
+}
 
 std::string img(const std::string& src, const std::string& alt, int w, int h) {
   return "<img src='" + xml_escape(src) + "' alt='" + xml_escape(alt) + "' width='" +
@@ -278,7 +288,7 @@ std::string error_vs_time(const ReportData& d) {
       const MethodEntry* m = d.scenes[i].find(name);
       if (!m || !m->vs_exact) continue;
       ser.x.push_back(m->ms);
-      ser.y.push_back(m->vs_exact->mean_abs_shadowed);
+      ser.y.push_back(std::max(m->vs_exact->mean_abs_shadowed, kErrorFloor));
       ser.marker.push_back(static_cast<int>(i));
       ser.tooltip.push_back(name + " on " + d.scenes[i].name + ": " + fmt("%.1f ms", m->ms) +
                             ", error " + fmt("%.5f", m->vs_exact->mean_abs_shadowed));
@@ -289,7 +299,7 @@ std::string error_vs_time(const ReportData& d) {
   chart.title = "Error against time: lower left is better";
   chart.x = {"method time (ms, log scale)", plot::Scale::log10};
   chart.y = {"mean |V − V_exact| over shadowed pixels (log scale)", plot::Scale::log10};
-  chart.width = 900;
+  chart.width = 860;
   chart.height = 480;
   for (const SceneEntry& s : d.scenes) chart.marker_names.push_back("scene " + s.name);
   return plot::line_plot_svg(chart, series);
@@ -298,10 +308,11 @@ std::string error_vs_time(const ReportData& d) {
 std::string sweep_charts(const SweepEntry& sw) {
   std::vector<plot::Series> err, time;
   for (const SweepCurve& c : sw.curves) {
-    err.push_back({c.method, sw.x, c.error, false, true, {}, {}, ""});
+    err.push_back({c.method, sw.x, floored(c.error), false, true, {}, {}, ""});
     time.push_back({c.method, sw.x, c.ms, false, true, {}, {}, ""});
   }
   plot::Chart e;
+  e.width = 600;
   e.title = "Error vs " + sw.name + " (" + sw.scene + ")";
   e.x = {sw.x_label, plot::Scale::log2};
   e.y = {"mean |V − V_exact| over shadowed pixels", plot::Scale::log10};
@@ -340,7 +351,7 @@ std::string report_html(const ReportData& d) {
   for (const SceneEntry& s : d.scenes) o << scene_section(s);
   o << "<section class='across' id='across'>\n<h2>Across scenes</h2>\n"
     << "<p class='note'>Each method is one colour, each scene one marker shape (hover a point "
-       "for its numbers); methods with zero error have no point on the log axis.</p>\n"
+       "for its numbers). Errors below 1e-6 (exact up to float rounding) are drawn at 1e-6.</p>\n"
     << "<div class='charts'>" << error_vs_time(d) << "</div>\n";
   for (const SweepEntry& sw : d.sweeps) {
     o << "<h3>Sweep: " << xml_escape(sw.name) << " on " << xml_escape(sw.scene) << "</h3>\n"
