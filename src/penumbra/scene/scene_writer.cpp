@@ -100,20 +100,6 @@ std::string file_safe(const std::string& name) {
   return out.empty() ? "mesh" : out;
 }
 
-const char* light_type(LightShape s) {
-  switch (s) {
-    case LightShape::rect:
-      return "rect";
-    case LightShape::disk:
-      return "disk";
-    case LightShape::sphere:
-      return "sphere";
-    case LightShape::point:
-      return "point";
-  }
-  return "rect";
-}
-
 }  // namespace
 
 void write_scene_file(const Scene& scene, const fs::path& json_path) {
@@ -181,7 +167,7 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
 
   j["lights"] = json::array();
   for (const Light& l : scene.lights) {
-    json jl = {{"type", light_type(l.shape)},
+    json jl = {{"type", std::string(to_string(l.shape))},
                {"name", l.name},
                {"center", vec3(l.center)},
                {"radiance", vec3(l.radiance)}};
