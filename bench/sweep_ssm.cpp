@@ -1,5 +1,5 @@
-// Error sweeps of `ssm` (Atty et al. 2006, §4.2, Figs. 17–20) and `silhouette_map` soft against
-// `pcss` at equal cost (Valient & Bujnak §2.2.1), issue #6. Prints CSV, writes SVG line plots.
+// Error sweeps of `ssm` (Atty 2006, §4.2, Figs. 17–20) and `silhouette_map` soft against
+// `pcss` at equal cost (Valient 2005 §2.2.1). Prints CSV, writes SVG line plots.
 //   scripts/build.sh release --target sweep_ssm
 //   ./build/release/bench/sweep_ssm [--size N] [--out docs/images] [--skip-cost]
 // Metric: the paper's, mean |V − V_exact| over the pixels exact shadows or puts in penumbra

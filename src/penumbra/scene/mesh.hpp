@@ -20,7 +20,7 @@ struct Mesh {
   std::vector<Vec2> uvs;  // optional per-vertex texture coordinates (needed by alpha textures)
   std::vector<Triangle> triangles;
   int material = 0;
-  /// Occluder / receiver roles (the image-based methods split the scene, Atty et al. §3.1).
+  /// Occluder / receiver roles (the image-based methods split the scene, Atty 2006 §3.1).
   bool casts_shadows = true;
   bool receives_shadows = true;
   /// Where the mesh came from, if from a file: world positions = source_transform × the file's.

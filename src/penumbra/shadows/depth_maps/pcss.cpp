@@ -15,8 +15,8 @@
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/render/receivers.hpp"
-#include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/depth_maps/shadow_map.hpp"
+#include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra {
@@ -114,7 +114,7 @@ void register_pcss(MethodRegistry& registry) {
   info.summary =
       "percentage-closer soft shadows: blocker search, penumbra width from light size, variable "
       "PCF";
-  info.reference = "[Fernando 2005; Forest thesis §2.2.2]";
+  info.reference = "[Fernando 2005 eq. 1; Forest 2008 §2.2.2]";
   info.options = depth_map_option_specs();
   info.options.insert(
       info.options.end(),
