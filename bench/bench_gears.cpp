@@ -1,4 +1,5 @@
-// Google Benchmark: GEARS [seed 004 §4.3] against the Embree baseline at equal samples, in one run.
+// Google Benchmark: GEARS [Wang 2014 §4.3] against the Embree baseline at equal samples, in one
+// run.
 //   ./build/release/bench/bench_gears --benchmark_counters_tabular=true
 //   ./build/release/bench/bench_gears --benchmark_filter='/bunny/1024/16$'
 // Args: {image size, k (k×k grid samples), grid resolution, light scale ×1..×5}. Scenes: bunny,

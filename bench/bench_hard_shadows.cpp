@@ -1,4 +1,4 @@
-// Google Benchmark: the hard-shadow methods and PCSS against the Embree baseline (issue #3).
+// Google Benchmark: the hard-shadow methods and PCSS against the Embree baseline.
 //   ./build/h-hard/bench/bench_hard_shadows --benchmark_counters_tabular=true
 // Scene: bunny (needs scripts/fetch-models.sh), 1024×1024, all cores; light samples k = 1 (the
 // light centre) and 16×16 grid. shadow_volume, shadow_map and pcss ignore k (they use the light

@@ -1,4 +1,4 @@
-// Google Benchmark: the image-based soft-shadow methods of issue #6 — `ssm` (Atty et al. 2006)
+// Google Benchmark: the image-based soft-shadow methods — `ssm` (Atty 2006)
 // one-pass and two-pass, `silhouette_map` hard and soft (Valient & Bujnak) — against `pcss` and
 // `raytrace` (16×16 grid samples) on bunny, 1024×1024, all cores; then `ssm` time vs the
 // occluder-map resolution (32…512, the paper's Fig. 22) and vs the light size (×1, ×2, ×3 of the

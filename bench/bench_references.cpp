@@ -1,4 +1,4 @@
-// Google Benchmark: the Embree baseline every exact method is measured against (issue #2).
+// Google Benchmark: the Embree baseline every exact method is measured against.
 //   ./build/release/bench/bench_references --benchmark_counters_tabular=true
 // Scenes: bunny (needs scripts/fetch-models.sh) and spheres; 512×512; 16×16 grid samples.
 #include <benchmark/benchmark.h>

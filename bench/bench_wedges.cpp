@@ -1,6 +1,7 @@
 // Google Benchmark: `wedges` and `wedge_blend` against `raytrace` (16×16 samples) in one process
-// (issue #4), and how their cost grows with the light's size and the resolution, beside the
-// "pixels inside wedges" counter (papers III §5 / IV §6: cost follows the pixels inside wedges).
+//, and how their cost grows with the light's size and the resolution, beside the
+// "pixels inside wedges" counter (Assarsson 2003 III §5 / IV §6: cost follows the pixels inside
+// wedges).
 //   ./build/release/bench/bench_wedges --benchmark_counters_tabular=true
 // Scenes: bunny (needs scripts/fetch-models.sh) and spheres. Args: {size, k, light scale}.
 #include <benchmark/benchmark.h>

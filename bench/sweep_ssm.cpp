@@ -1,5 +1,5 @@
-// Error sweeps of `ssm` (Atty et al. 2006, §4.2, Figs. 17–20) and `silhouette_map` soft against
-// `pcss` at equal cost (Valient & Bujnak §2.2.1), issue #6. Prints CSV, writes SVG line plots.
+// Error sweeps of `ssm` (Atty 2006, §4.2, Figs. 17–20) and `silhouette_map` soft against
+// `pcss` at equal cost (Valient 2005 §2.2.1). Prints CSV, writes SVG line plots.
 //   scripts/build.sh release --target sweep_ssm
 //   ./build/release/bench/sweep_ssm [--size N] [--out docs/images] [--skip-cost]
 // Metric: the paper's, mean |V − V_exact| over the pixels exact shadows or puts in penumbra
@@ -21,17 +21,24 @@
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/report/svg_plot.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
-#include "svg_plot.hpp"
 
 namespace penumbra {
 namespace {
 
-using bench::PlotSeries;
-using bench::PlotSpec;
-using bench::write_svg_plot;
+/// One curve and one chart of a sweep, drawn by penumbra/report/svg_plot.hpp.
+struct PlotSeries {
+  std::string name;
+  std::vector<double> x, y;
+  bool dashed = false;
+};
+struct PlotSpec {
+  std::string title, x_label, y_label;
+  bool log2_x = false;
+};
 using Options = std::map<std::string, std::string>;
 
 struct Setup {
@@ -116,7 +123,20 @@ Options pass_opts(int two, Options o = {}) {
 std::string out_dir = "docs/images";
 
 void plot(const std::string& file, const PlotSpec& spec, const std::vector<PlotSeries>& series) {
-  write_svg_plot(out_dir + "/" + file, spec, series);
+  plot::Chart chart;
+  chart.title = spec.title;
+  chart.x = {spec.x_label, spec.log2_x ? plot::Scale::log2 : plot::Scale::linear};
+  chart.y = {spec.y_label, plot::Scale::linear};
+  std::vector<plot::Series> lines;
+  for (const PlotSeries& ps : series) {
+    plot::Series l;
+    l.name = ps.name;
+    l.x = ps.x;
+    l.y = ps.y;
+    l.dashed = ps.dashed;
+    lines.push_back(std::move(l));
+  }
+  plot::write_text_file(out_dir + "/" + file, plot::line_plot_svg(chart, lines));
   std::printf("# wrote %s/%s\n", out_dir.c_str(), file.c_str());
 }
 

@@ -13,6 +13,7 @@ PACKAGES=(
   # so the GPU tests run everywhere) and the validation layer.
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer with ASan+UBSan
+  chromium  # the report's browser test (tests/report/browser_test.sh)
 )
 
 missing=()

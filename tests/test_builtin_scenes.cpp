@@ -98,7 +98,7 @@ TEST(BuiltinScenes, UnknownNameListsTheKnownOnes) {
   }
 }
 
-/// The benchmark layout (issue #2), checked when the model is present.
+/// The benchmark layout, checked when the model is present.
 void check_model_scene(const Scene& s, const std::string& name, size_t min_triangles) {
   ASSERT_EQ(s.meshes.size(), 2u);
   const Mesh& model = s.meshes[1];

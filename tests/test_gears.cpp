@@ -1,4 +1,4 @@
-// GEARS [seed 004]: same samples, same answer as `raytrace` — per-sample masks on whole frames,
+// GEARS [Wang 2014]: same samples, same answer as `raytrace` — per-sample masks on whole frames,
 // conservative candidate sets (brute force), the point-light limit, alpha and semi-opaque
 // occluders, round lights, irregular sample patterns, and the LUT variant's error.
 #include <gtest/gtest.h>

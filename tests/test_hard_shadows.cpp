@@ -62,7 +62,8 @@ TEST(ShadowVolume, EqualsRaytraceWithAPointLight) {
 }
 
 /// Alpha is ignored by shadow volumes (the fence is an opaque quad to them; soft textured shadow
-/// volumes are Forest ch. 5): compared with raytrace on the same scene without its alpha texture.
+/// volumes are Forest 2008 ch. 5): compared with raytrace on the same scene without its alpha
+/// texture.
 TEST(ShadowVolume, EqualsRaytraceOnFenceWithAlphaIgnored) {
   expect_equal_to_raytrace(
       make_test_frame(without_alpha(make_builtin_scene("fence")), 128, 128, centre_sample()), 1000);

@@ -1,5 +1,5 @@
 // Tests for LightSamples: every sample pattern's positions, determinism, range, stratification,
-// per-pixel decorrelation [Forest thesis §4.2.1], interleaving [Forest thesis §4.2.2], Halton
+// per-pixel decorrelation [Forest 2008 §4.2.1], interleaving [Forest 2008 §4.2.2], Halton
 // values and the Poisson-disk spacing.
 #include <gtest/gtest.h>
 

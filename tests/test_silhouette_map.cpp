@@ -1,4 +1,4 @@
-// `silhouette_map` (Valient & Bujnak, seed 001 §2): the TAM and the silhouette-pass geometry in
+// `silhouette_map` (Valient & Bujnak, Valient 2005 §2): the TAM and the silhouette-pass geometry in
 // isolation (eq. 1, eq. 2, the §2.1.1 degenerate correction), then whole frames: hard mode against
 // shadow_volume (anti-aliased boundary vs plain shadow_map at the same resolution), soft mode
 // against exact next to pcss, and degenerate input (zero-area faces, open meshes): no NaN.

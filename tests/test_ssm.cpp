@@ -1,6 +1,6 @@
-// `ssm` (soft shadow maps, seed 002 §3): the micro-patch occlusion and FP16 rounding in isolation,
+// `ssm` (soft shadow maps, Atty 2006 §3): the micro-patch occlusion and FP16 rounding in isolation,
 // then whole frames against `exact` with the paper's metric (mean |error| over the shadowed and
-// penumbra pixels, seed 002 §4.2.1): the quad case, the occluder-map resolution sweep, one- vs
+// penumbra pixels, Atty 2006 §4.2.1): the quad case, the occluder-map resolution sweep, one- vs
 // two-pass, occluders touching the light or the receiver, and the FP16 blending of appendix A.
 #include <gtest/gtest.h>
 
@@ -28,7 +28,7 @@ LightSampleSpec few_samples() {
 
 /// The paper's metric, ErrorStats::mean_abs_shadowed, over the active pixels of the receiver (the
 /// ground, mesh 0, in every scene here): the paper measures the soft shadow map, i.e. the
-/// receivers [seed 002 §4.2.1]; occluders get no shadow from ssm (no self-shadowing, §3.1).
+/// receivers [Atty 2006 §4.2.1]; occluders get no shadow from ssm (no self-shadowing, §3.1).
 ErrorStats ssm_error(const TestFrame& t, const std::map<std::string, std::string>& options,
                      const MethodResult& exact) {
   const MethodResult r = t.run("ssm", options);
@@ -85,7 +85,7 @@ TEST(SsmPatch, BackProjectionArea) {
 }
 
 TEST(SsmPatch, HalfRoundingMatchesAppendixA) {
-  // [seed 002 App. A]: X + ε = X in FP16 if ε < 2^-10·X; 2048 + 1 = 2048, 0.5 + 1/2049 = 0.5.
+  // [Atty 2006 App. A]: X + ε = X in FP16 if ε < 2^-10·X; 2048 + 1 = 2048, 0.5 + 1/2049 = 0.5.
   // The rule is truncation (round toward zero), the blend rounding fp16 mode uses.
   EXPECT_EQ(ssm::round_to_half(2048.0f + 1.0f, true), 2048.0f);
   EXPECT_EQ(ssm::round_to_half(0.5f + ssm::round_to_half(1.0f / 2049.0f), true), 0.5f);
@@ -98,7 +98,7 @@ TEST(SsmPatch, HalfRoundingMatchesAppendixA) {
   EXPECT_EQ(ssm::round_to_half(std::ldexp(1.0f, -26)), 0.0f);
 }
 
-// The paper's own case [seed 002 §4.2.1]: a square parallel to the light. All micro-patches lie
+// The paper's own case [Atty 2006 §4.2.1]: a square parallel to the light. All micro-patches lie
 // at one depth, so neighbouring back-projections neither overlap nor gap (eq. 1 with δh = 0) and
 // the occluder map's window is fitted to the square (no staircase): what is left is the
 // soft-shadow-map sampling — a 128² map over the penumbra read bilinearly — and float rounding.
@@ -128,7 +128,7 @@ TEST(Ssm, QuadMatchesExact) {
   }
 }
 
-// [seed 002 §4.1.2, Fig. 17]: with the square turned 30° its edges cross the occluder-map texels,
+// [Atty 2006 §4.1.2, Fig. 17]: with the square turned 30° its edges cross the occluder-map texels,
 // the staircase error is half a texel along the outline, and it falls as the resolution rises.
 TEST(Ssm, ErrorFallsWithOccluderMapResolution) {
   const TestFrame t = make_test_frame(rotated_quad(30.0), 96, 96, few_samples());
@@ -150,7 +150,7 @@ TEST(Ssm, ErrorFallsWithOccluderMapResolution) {
   EXPECT_LT(last, 0.5 * first);
 }
 
-// [seed 002 §3.5, §4.2.3]: the two-pass version is never worse than the one-pass one (the square
+// [Atty 2006 §3.5, §4.2.3]: the two-pass version is never worse than the one-pass one (the square
 // has no back faces: equal there).
 void expect_two_pass_not_worse(const Scene& scene, const char* name) {
   const TestFrame t = make_test_frame(scene, 80, 80, few_samples());
@@ -177,7 +177,7 @@ TEST(Ssm, TwoPassNeverWorseOnBunny) {
   expect_two_pass_not_worse(make_builtin_scene("bunny"), "bunny");
 }
 
-// [seed 002 §4.1.2]: an occluder touching the light or the receiver makes the overlap bound
+// [Atty 2006 §4.1.2]: an occluder touching the light or the receiver makes the overlap bound
 // infinite; the method must still return finite visibilities in [0, 1] (Frame::run throws on a
 // non-finite value) and a sane shadow.
 TEST(Ssm, OccludersTouchingLightOrReceiverStayFinite) {
@@ -212,7 +212,7 @@ TEST(Ssm, OccludersTouchingLightOrReceiverStayFinite) {
   }
 }
 
-// [seed 002 §4.1.3, App. A]: FP16 blending drops micro-patch contributions below 2^-10 of the
+// [Atty 2006 §4.1.3, App. A]: FP16 blending drops micro-patch contributions below 2^-10 of the
 // running sum, so a high-resolution occluder map under-shadows; float32 accumulation does not.
 TEST(Ssm, Fp16BlendingErrorGrowsWithResolution) {
   const TestFrame t = make_test_frame("quad", 64, 64, few_samples());

@@ -1,6 +1,6 @@
 // The caster groups of `wedges --set wedges.overlap=true` and `wedge_blend` (wedges/pass.hpp):
-// light-facing patches, each bounded by its silhouette loops from the light centre [paper IV
-// §5.1; Forest thesis §3.2, Algorithm 4 line 1]. Whatever the grouping, the groups must add up to
+// light-facing patches, each bounded by its silhouette loops from the light centre [Assarsson 2003
+// IV §5.1; Forest 2008 §3.2, Algorithm 4 line 1]. Whatever the grouping, the groups must add up to
 // the whole: per pixel the groups' hard counts sum to the layered count of the meshes, and the
 // groups' silhouette edges carry the same signed weight per edge as the meshes'.
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// `wedges` (penumbra wedges, seed 000 papers III–IV, Forest §3.1): the analytic coverage against
-// closed forms, exactness for a single planar convex occluder against `exact` (paper III §5.3),
-// the point-light limit (= shadow_volume), the camera inside the shadow volume and inside a
-// wedge, and measured (not bounded) errors on spheres and bunny.
+// `wedges` (penumbra wedges, Assarsson 2003 III–IV, Forest 2008 §3.1): the analytic coverage
+// against closed forms, exactness for a single planar convex occluder against `exact` (Assarsson
+// 2003 III §5.3), the point-light limit (= shadow_volume), the camera inside the shadow volume and
+// inside a wedge, and measured (not bounded) errors on spheres and bunny.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -195,7 +195,7 @@ TEST(Wedges, PointLightEqualsShadowVolume) {
 
 /// The camera between the quad and the ground, looking across the umbra and the penumbra: every
 /// test is per G-buffer point in world space, so nothing depends on where the camera is
-/// [paper III §5.3; Forest §3.1.3].
+/// [Assarsson 2003 III §5.3; Forest 2008 §3.1.3].
 TEST(Wedges, CameraInsideTheShadowVolume) {
   Scene s = make_builtin_scene("quad");
   s.camera.position = Vec3(0.1f, 0.5f, 0.15f);
@@ -218,8 +218,8 @@ TEST(Wedges, CameraInsideAWedge) {
   // The quad is parallel to the light and centred under it, so both endpoints are at the same
   // distance from the light centre: the top edge is the edge, and both constructions give the same
   // wedge. The edge is parallel to a side of the light, so of each end pyramid's faces facing away
-  // from the other end (paper IV §4.1's "two leftmost and two rightmost triangles") two coincide
-  // with the front and back planes: front, back and one face per end.
+  // from the other end (Assarsson 2003 IV §4.1's "two leftmost and two rightmost triangles") two
+  // coincide with the front and back planes: front, back and one face per end.
   const WedgeLight light = wedge_pass::wedge_light(s.lights[0]);
   std::vector<DVec3> edge;
   for (const Vec3& p : s.meshes[1].positions)
@@ -315,7 +315,7 @@ TEST(WedgeGeometry, WedgesContainTheEdgeRegion) {
 }
 
 /// An edge touching a one-sided light from its emitting side: the wedge is the emitting
-/// half-space (paper IV §4.1), finite, and holds the region below.
+/// half-space (Assarsson 2003 IV §4.1), finite, and holds the region below.
 TEST(WedgeGeometry, EdgeTouchingTheLightGivesAHalfSpace) {
   for (LightShape shape : {LightShape::rect, LightShape::disk}) {
     const Light light = test_light(shape);
@@ -337,9 +337,9 @@ TEST(WedgeGeometry, EdgeTouchingTheLightGivesAHalfSpace) {
   }
 }
 
-/// Points of a grid below the light inside the wedges of random edges: paper IV §4.1's wedge for
-/// a rectangle (tangent to its corners, pyramid faces) is tighter than paper III's wedge from the
-/// rectangle's bounding sphere, and `hull` is tighter than `paper`.
+/// Points of a grid below the light inside the wedges of random edges: Assarsson 2003 IV §4.1's
+/// wedge for a rectangle (tangent to its corners, pyramid faces) is tighter than Assarsson 2003
+/// III's wedge from the rectangle's bounding sphere, and `hull` is tighter than `paper`.
 TEST(WedgeGeometry, RectangleWedgesAreTighterThanBoundingSphereWedges) {
   const Light light = test_light(LightShape::rect);
   const WedgeLight rect = wedge_pass::wedge_light(light);
@@ -364,9 +364,11 @@ TEST(WedgeGeometry, RectangleWedgesAreTighterThanBoundingSphereWedges) {
           in_hull += wh.contains(y);
         }
   }
-  std::printf("    grid points inside: rect (paper IV 4.1) %llu, bounding sphere %llu, hull %llu\n",
-              static_cast<unsigned long long>(in_rect), static_cast<unsigned long long>(in_sphere),
-              static_cast<unsigned long long>(in_hull));
+  std::printf(
+      "    grid points inside: rect (Assarsson 2003 IV 4.1) %llu, bounding sphere %llu, hull "
+      "%llu\n",
+      static_cast<unsigned long long>(in_rect), static_cast<unsigned long long>(in_sphere),
+      static_cast<unsigned long long>(in_hull));
   EXPECT_LT(in_rect, in_sphere);
   EXPECT_LE(in_hull, in_rect);
   EXPECT_GT(in_hull, 1000u);
@@ -392,7 +394,8 @@ TEST(Wedges, HullTestsNoMorePixelsThanPaper) {
 }
 
 /// One planar convex occluder: one group, whose SV-buffer is the exact per-part occlusion, so
-/// blending (Forest §3.2) and the overlap approximation (paper IV §5.1) change nothing.
+/// blending (Forest 2008 §3.2) and the overlap approximation (Assarsson 2003 IV §5.1) change
+/// nothing.
 TEST(WedgeBlend, QuadMatchesExactAndWedges) {
   const auto t = make_test_frame("quad", 64, 64, one_sample());
   for (const char* c : kConstructions) {
@@ -440,9 +443,9 @@ TEST(Wedges, SplitLightStaysExactOnQuad) {
 }
 
 /// Measured (docs/methods/wedges.md): overlapping spheres, where the summed coverage over-darkens,
-/// and the papers' remedies: light splitting (paper IV §5.2, figs. 8–9), the overlap
-/// approximation (paper IV §5.1, eq. 1) and penumbra-wedge blending (Forest §3.2, fig. 3.5).
-/// The papers claim splitting and blending each reduce the error of plain wedges there.
+/// and the papers' remedies: light splitting (Assarsson 2003 IV §5.2, figs. 8–9), the overlap
+/// approximation (Assarsson 2003 IV §5.1, eq. 1) and penumbra-wedge blending (Forest 2008 §3.2,
+/// fig. 3.5). The papers claim splitting and blending each reduce the error of plain wedges there.
 TEST(Wedges, MeasuredErrorOnSpheres) {
   const auto t = make_test_frame("spheres", 96, 96, one_sample());
   const Diff d1 = compare(t, "wedges");
@@ -677,7 +680,7 @@ TEST(Wedges, TexturedLightRgbOnQuad) {
   // One group: the per-channel overlap approximation changes nothing.
   const RgbDiff dov = compare_rgb(t, {{"overlap", "true"}});
   for (int c = 0; c < 3; ++c) EXPECT_LE(dov.max_rgb[c], kExactTol) << c;
-  // Light splitting [paper IV §5.2] with the texture cut between the sub-lights: still exact for
+  // Light splitting [Assarsson 2003 IV §5.2] with the texture cut between the sub-lights: still exact for
   // one planar convex occluder, also when the cuts fall inside texels (2 texels, 3 sub-lights).
   for (const char* split : {"2", "3"}) {
     const RgbDiff ds = compare_rgb(t, {{"split", split}});

@@ -9,5 +9,7 @@ void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_info_command(CLI::App& app);
 void add_list_command(CLI::App& app);
+void add_report_command(CLI::App& app);
+void add_scene_command(CLI::App& app);
 
 }  // namespace penumbra::cli

@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
   penumbra::cli::add_compare_command(app);
   penumbra::cli::add_info_command(app);
   penumbra::cli::add_list_command(app);
+  penumbra::cli::add_report_command(app);
+  penumbra::cli::add_scene_command(app);
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
   } catch (const CLI::CallForHelp& e) {

@@ -14,14 +14,15 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "method_args.hpp"
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/stats.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/metrics/error_map.hpp"
 #include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/report/summary_table.hpp"
 #include "penumbra/scene/scene_file.hpp"
-#include "report_table.hpp"
 
 #ifdef PENUMBRA_HAVE_VULKAN
 #include "penumbra/gpu/backend.hpp"
@@ -45,6 +46,7 @@ struct RenderArgs {
   std::string shading = "modulate";
   std::string backend = "cpu";
   std::string vk_device;  // empty: $PENUMBRA_VK_DEVICE, else the first discrete GPU
+  FramingArgs framing;
 };
 
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -68,16 +70,6 @@ std::unique_ptr<gpu::Backend> open_vulkan(const RenderArgs& args,
   return backend;
 }
 #endif
-
-void parse_size(const std::string& text, Camera& camera) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w < 1 || h < 1 || w > 16384 || h > 16384)
-    throw Error("--size: expected WxH with 1..16384 pixels each, got " + quote(text));
-  camera.width = w;
-  camera.height = h;
-}
 
 /// Memory available to this process: MemAvailable from /proc/meminfo, else physical memory.
 uint64_t available_memory_bytes() {
@@ -121,69 +113,22 @@ void check_memory(const RenderArgs& args, const Camera& camera, size_t lights, s
   throw Error(text);
 }
 
-/// --set method.key=value, grouped by method.
-std::map<std::string, std::map<std::string, std::string>> parse_sets(
-    const std::vector<std::string>& sets) {
-  std::map<std::string, std::map<std::string, std::string>> out;
-  for (const std::string& s : sets) {
-    const size_t dot = s.find('.'), eq = s.find('=');
-    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 ||
-        eq == dot + 1)
-      throw Error("--set: expected method.option=value, got " + quote(s));
-    out[s.substr(0, dot)][s.substr(dot + 1, eq - dot - 1)] = s.substr(eq + 1);
-  }
-  return out;
-}
-
-std::vector<const MethodInfo*> selected_methods(const std::vector<std::string>& names) {
-  const MethodRegistry& registry = MethodRegistry::builtin();
-  std::vector<const MethodInfo*> out;
-  for (const std::string& name : names) {
-    if (name == "all") {
-      for (const MethodInfo& m : registry.methods()) out.push_back(&m);
-    } else {
-      out.push_back(&registry.get(name));
-    }
-  }
-  // `exact` first: every other method is measured against it.
-  std::stable_sort(out.begin(), out.end(), [](const MethodInfo* a, const MethodInfo* b) {
-    return a->name == "exact" && b->name != "exact";
-  });
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
-
 void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   write_text_file(path, j.dump(2) + "\n");
 }
 
 void run_render(const RenderArgs& args) {
   const auto process_start = std::chrono::steady_clock::now();
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, to_framing(args.framing));
   const double load_ms = elapsed_ms(process_start);
   if (!args.size.empty()) parse_size(args.size, scene.camera);
-  const auto pattern = parse_sample_pattern(args.pattern);
-  if (!pattern) throw Error("--pattern: unknown light-sample pattern " + quote(args.pattern));
+  const SamplePattern pattern = parse_pattern(args.pattern);
   const ShadingMode shading =
       args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
   const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
 
   std::vector<const MethodInfo*> methods = selected_methods(args.methods);
-  const auto sets = parse_sets(args.sets);
-  for (const auto& [name, values] : sets) {
-    MethodRegistry::builtin().get(name);  // unknown method → error
-    if (std::none_of(methods.begin(), methods.end(),
-                     [&](const MethodInfo* m) { return m->name == name; }))
-      std::fprintf(stderr, "penumbra: warning: --set for '%s', which is not rendered\n",
-                   name.c_str());
-  }
-  // Resolve every method's options before the (long) frame starts, so bad options fail fast.
-  std::vector<MethodOptions> options;
-  for (const MethodInfo* m : methods) {
-    const auto it = sets.find(m->name);
-    options.push_back(
-        resolve_options(*m, it == sets.end() ? std::map<std::string, std::string>{} : it->second));
-  }
+  const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
 
   std::string device_name = "cpu";
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -211,7 +156,7 @@ void run_render(const RenderArgs& args) {
                 ec.message());
 
   LightSampleSpec spec;
-  spec.pattern = *pattern;
+  spec.pattern = pattern;
   spec.k = args.samples;
   spec.seed = args.seed;
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
@@ -261,11 +206,11 @@ void run_render(const RenderArgs& args) {
     stats["device"] = device_name;
     write_json(dir / "stats.json", stats);
 
-    rows.push_back({result.method, result.total_ms, error});
+    rows.push_back({result.method, result.total_ms, error, ""});
     if (result.method == "exact") exact = std::move(result);
   }
   if (several) {
-    const std::string table = format_table(rows);
+    const std::string table = format_summary(rows, frame, std::string(to_string(shading)));
     std::printf("%s", table.c_str());
     write_text_file(out_dir / "summary.md", table);
     write_json(out_dir / "summary.json", table_json(rows, frame));
@@ -277,7 +222,9 @@ void run_render(const RenderArgs& args) {
 void add_render_command(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene with one or more shadow methods");
-  cmd->add_option("--scene", args->scene, "Built-in scene name or scene .json file")->required();
+  cmd->add_option("--scene", args->scene,
+                  "Built-in scene name, scene .json file or model file (OBJ, PLY, glTF, ...)")
+      ->required();
   cmd->add_option("--method", args->methods, "Method name (repeatable) or 'all'")->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
       ->check(CLI::Range(1, 64));
@@ -302,6 +249,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--vk-device", args->vk_device,
                   "Vulkan device: index or name substring (default $PENUMBRA_VK_DEVICE, else the "
                   "first discrete GPU, else the first device)");
+  add_framing_options(*cmd, args->framing);
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -80,6 +80,31 @@ grep -q "raytrace" <<<"$listing" && ok || bad "list lacks raytrace"
 info="$("$bin" info quad)"
 grep -q "closed 2-manifold\|open/non-manifold" <<<"$info" && ok || bad "info lacks topology"
 
+# report: one page and its images; scene: a JSON file that renders; a model file as --scene.
+if "$bin" report --scene quad --method raytrace --size 32x32 --samples 2 --out "$work/rep" \
+  >"$work/rep.txt" 2>/dev/null && grep -q "index.html" "$work/rep.txt" &&
+  [ -s "$work/rep/quad/raytrace_abs.png" ] && grep -q "### quad" "$work/rep/results.md"; then
+  ok
+else
+  bad "report"
+fi
+if "$bin" scene --scene fence --out "$work/sc/fence.json" >/dev/null &&
+  "$bin" render --scene "$work/sc/fence.json" --method exact --size 32x32 --out "$work/sc/r" \
+    >/dev/null 2>&1 && [ -s "$work/sc/r/beauty.png" ]; then
+  ok
+else
+  bad "scene export + render"
+fi
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tetra.obj"
+if "$bin" render --scene "$work/tetra.obj" --method exact --size 32x32 --light-size 0.3 --up z \
+  --out "$work/obj" >/dev/null 2>&1 && [ -s "$work/obj/beauty.png" ]; then
+  ok
+else
+  bad "render a model file"
+fi
+expect_error "sweep" report --scene quad --method exact --sweep nosuch --out "$work/x"
+expect_error "light-size" render --scene "$work/tetra.obj" --method exact --light-size -1 --out "$work/x"
+
 # Bad input: clear one-line errors.
 expect_error "unknown scene" render --scene nosuchscene --method exact --out "$work/x"
 expect_error "unknown method" render --scene quad --method nosuch --out "$work/x"

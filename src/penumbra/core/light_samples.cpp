@@ -267,12 +267,12 @@ LightSamples::LightSamples(const LightSampleSpec& spec) : spec_(spec) {
       shared_ = make_stratified(k, Pcg32(spec.seed, kStratifiedStream));
       break;
     case SamplePattern::decorrelated:
-      // [Forest thesis §4.2.1] the base is the stratified pattern itself (same seed, same stream),
+      // [Forest 2008 §4.2.1] the base is the stratified pattern itself (same seed, same stream),
       // so decorrelated = stratified + a per-pixel toroidal shift.
       shared_ = make_stratified(k, Pcg32(spec.seed, kStratifiedStream));
       break;
     case SamplePattern::interleaved: {
-      // [Forest thesis §4.2.2] (Keller & Heidrich 2001): n×n distinct stratified patterns, one
+      // [Forest 2008 §4.2.2] (Keller & Heidrich 2001): n×n distinct stratified patterns, one
       // PCG32 stream each, tiled over the screen.
       const size_t patterns = static_cast<size_t>(spec.interleave_n) * spec.interleave_n;
       interleaved_.reserve(patterns);
@@ -300,7 +300,7 @@ void LightSamples::pixel_samples(int x, int y, std::span<Vec2> light_uv) const {
     throw std::invalid_argument("LightSamples::pixel_samples: output span smaller than count()");
   switch (spec_.pattern) {
     case SamplePattern::decorrelated: {
-      // [Forest thesis §4.2.1] "randomly rotating the initial sampling pattern" per receiver: a
+      // [Forest 2008 §4.2.1] "randomly rotating the initial sampling pattern" per receiver: a
       // Cranley–Patterson rotation (toroidal shift) of the stratified base, drawn from a PCG32
       // stream keyed by the pixel, so it is a pure function of (seed, x, y).
       const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(y)) << 32) |

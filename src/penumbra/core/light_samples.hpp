@@ -17,8 +17,9 @@ namespace penumbra {
 enum class SamplePattern {
   grid,          // regular k×k grid of cell centres (GEARS's bitmask layout)
   stratified,    // one jittered sample per cell of the k×k grid, same for every pixel
-  decorrelated,  // the stratified pattern with a per-pixel random toroidal shift (Forest §4.2.1)
-  interleaved,   // n×n different stratified patterns tiled over the screen (Forest §4.2.2)
+  decorrelated,  // the stratified pattern with a per-pixel random toroidal shift (Forest 2008
+                 // §4.2.1)
+  interleaved,   // n×n different stratified patterns tiled over the screen (Forest 2008 §4.2.2)
   halton,        // low-discrepancy Halton (2, 3) sequence, same for every pixel
   poisson,       // Poisson-disk (best-candidate) points on the torus, same for every pixel
 };

@@ -11,7 +11,7 @@ namespace penumbra {
 /// Statistics over the counted pixels (mask > 0.5, or all pixels without a mask).
 struct ErrorStats {
   /// Mean |test - ref| over the counted pixels whose reference is shadowed or in penumbra
-  /// (ref < 1 - kShadowedThreshold), as in Atty et al. 2006 §4.2.1; 0 if there are none.
+  /// (ref < 1 - kShadowedThreshold), as in Atty 2006 §4.2.1; 0 if there are none.
   double mean_abs_shadowed = 0.0;
   double mean_abs = 0.0;
   double rmse = 0.0;

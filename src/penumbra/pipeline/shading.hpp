@@ -13,10 +13,11 @@ namespace penumbra {
 class Frame;
 
 enum class ShadingMode {
-  /// Direct light = unshadowed irradiance × V_coef (Forest thesis eq. 4.3): works with every
+  /// Direct light = unshadowed irradiance × V_coef (Forest 2008 eq. 4.3): works with every
   /// method.
   modulate,
-  /// Direct light = Σ over light samples of visibility × radiance × geometry term (Forest eq. 4.6):
+  /// Direct light = Σ over light samples of visibility × radiance × geometry term (Forest 2008
+  /// eq. 4.6):
   /// needs per-sample masks; lights without masks fall back to `modulate`.
   integrate,
 };

@@ -1,5 +1,5 @@
 // Light-space depth maps: a perspective depth render of the scene's casters from one light point
-// [Forest thesis §2.2.2; Valient & Bujnak §1], with front-face, back-face or both-face variants
+// [Forest 2008 §2.2.2; Valient 2005 §1], with front-face, back-face or both-face variants
 // (the soft shadow maps of Atty et al. need separate front- and back-face occluder maps).
 #pragma once
 

@@ -4,7 +4,7 @@
 //
 // Points at infinity: a world vertex is homogeneous (x, y, z, w) with w = 1 for a point and
 // w = 0 for a direction (a point at infinity), so shadow-volume quads and far caps are extruded
-// to infinity exactly, without a "large number" [Forest thesis App. 3.A, Everitt & Kilgard's
+// to infinity exactly, without a "large number" [Forest 2008 App. 3.A, Everitt & Kilgard's
 // infinite far plane]. Clip w is the view depth (distance along the view axis); clip z carries the
 // world w, so the near plane is the linear condition w_clip ≥ near·w_world (a point at infinity is
 // in front iff its direction has a positive forward component). Polygons are clipped to the

@@ -33,7 +33,7 @@ void intersect_filter(const RTCFilterFunctionNArguments* args) {
 }
 
 /// Shadow rays: holes let light through; a semi-opaque surface multiplies the ray's transmittance
-/// and lets it continue (Forest thesis §4.3.3: each crossing attenuates).
+/// and lets it continue (Forest 2008 §4.3.3: each crossing attenuates).
 void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   const auto& g = *static_cast<const GeometryData*>(args->geometryUserPtr);
   const auto* ctx = reinterpret_cast<const OcclusionContext*>(args->context);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
+#include "penumbra/scene/model_scene.hpp"
 #include "penumbra/scene/shapes.hpp"
 
 namespace penumbra {
@@ -138,20 +140,40 @@ Scene default_scene() {
   return s;
 }
 
-/// The benchmark scene layout: model scaled to a bounding-box diagonal of 1, resting on
-/// the 10×10 ground at y = 0, a square light of side 0.5 parallel to the ground 2.0 above the
-/// model's centre, camera at (1.5, 1.2, 1.5) looking at the model's centre, 45° vertical fov.
-Scene model_scene(const std::string& name, const std::string& file_name) {
-  const auto path = find_model(file_name);
-  if (!path) {
-    throw Error("scene '" + name + "' needs " + file_name + ", which is not in " +
-                models_dir().string() + ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
-  }
-  Mesh model = load_mesh_file(*path);
-  const Bounds3 b = model.bounds();
+}  // namespace
+
+Mat4 model_framing_matrix(const Mesh& model, ModelUp up) {
+  // Z-up to Y-up: (x, y, z) -> (x, z, -y), a quarter turn about x (exact in floats).
+  const Mat4 turn = up == ModelUp::z ? Mat4(Vec4(1, 0, 0, 0), Vec4(0, 0, -1, 0), Vec4(0, 1, 0, 0),
+                                            Vec4(0, 0, 0, 1))
+                                     : Mat4(1.0f);
+  Bounds3 b;
+  for (const Vec3& p : model.positions) b.extend(Vec3(turn * Vec4(p, 1.0f)));
   const float scale = 1.0f / b.diagonal();
   const Vec3 offset(-b.center().x, -b.lo.y, -b.center().z);
-  for (Vec3& p : model.positions) p = (p + offset) * scale;
+  Mat4 m = glm::scale(Mat4(1.0f), Vec3(scale)) * glm::translate(Mat4(1.0f), offset) * turn;
+  return m;
+}
+
+/// The benchmark scene layout: model scaled to a bounding-box diagonal of 1, resting on
+/// the 10×10 ground at y = 0, a square light (side 0.5 by default) parallel to the ground 2.0
+/// above the model's centre, camera at (1.5, 1.2, 1.5) looking at the model's centre, 45°
+/// vertical fov.
+Scene frame_model(Mesh model, const std::string& name, const ModelFraming& framing,
+                  const std::filesystem::path& source) {
+  if (model.positions.empty() || !(model.bounds().diagonal() > 0.0f))
+    throw Error("model '" + name + "' has no extent (all its vertices coincide)");
+  if (!(framing.light_size > 0.0f) || !std::isfinite(framing.light_size))
+    throw Error("--light-size must be a positive number");
+  if (!(framing.light_height > 0.0f) || !std::isfinite(framing.light_height))
+    throw Error("--light-height must be a positive number");
+  const Mat4 m =
+      model_framing_matrix(model, framing.up == ModelUp::automatic ? ModelUp::y : framing.up);
+  transform_mesh(model, m);
+  if (!source.empty()) {
+    model.source_file = std::filesystem::absolute(source).lexically_normal().string();
+    model.source_transform = m;
+  }
   const Vec3 model_center = model.bounds().center();
 
   Scene s;
@@ -159,11 +181,33 @@ Scene model_scene(const std::string& name, const std::string& file_name) {
   add_ground(s);
   const int mat = add_material(s, name, Vec3(0.8f, 0.75f, 0.65f));
   add_mesh(s, std::move(model), name, mat);
-  s.lights.push_back(square_light(model_center + Vec3(0, 2.0f, 0), 0.5f, 16.0f));
+  // The same irradiance under the light whatever its size: power scales with 1 / area.
+  const float power = 16.0f * (0.5f * 0.5f) / (framing.light_size * framing.light_size);
+  s.lights.push_back(
+      square_light(model_center + Vec3(0, framing.light_height, 0), framing.light_size, power));
   s.camera.position = Vec3(1.5f, 1.2f, 1.5f);
   s.camera.target = model_center;
   s.camera.vfov_deg = 45.0f;
+  if (framing.fit_camera) {
+    const float radius = 0.5f;  // of the bounding sphere: the diagonal is 1
+    const float distance = radius / std::sin(glm::radians(0.5f * s.camera.vfov_deg));
+    s.camera.position =
+        model_center + distance * glm::normalize(Vec3(1.5f, 1.2f, 1.5f) - model_center);
+  }
   return s;
+}
+
+namespace {
+
+Scene model_scene(const std::string& name, const std::string& file_name) {
+  const auto path = find_model(file_name);
+  if (!path) {
+    throw Error("scene '" + name + "' needs " + file_name + ", which is not in " +
+                models_dir().string() + ": run scripts/fetch-models.sh (or set PENUMBRA_MODELS)");
+  }
+  ModelFraming benchmark_layout;
+  benchmark_layout.fit_camera = false;
+  return frame_model(load_mesh_file(*path), name, benchmark_layout, *path);
 }
 
 struct Entry {

@@ -1,7 +1,7 @@
 // Edge adjacency of a triangle mesh: every undirected edge knows its faces (and the direction each
 // face traverses it), and is classified as closed 2-manifold, boundary (open), non-manifold or
 // inconsistently oriented. The silhouette extraction (silhouettes.hpp) and every object-based
-// shadow method (shadow volumes, wedges, DCS) start from it [Forest thesis §2.2.1].
+// shadow method (shadow volumes, wedges, DCS) start from it [Forest 2008 §2.2.1].
 #pragma once
 
 #include <array>

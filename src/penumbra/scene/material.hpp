@@ -14,7 +14,7 @@ struct Material {
   std::string name;
   Vec3 albedo{0.8f};       // Lambertian reflectance, linear RGB
   int alpha_texture = -1;  // index into Scene::textures; -1 = fully opaque surface
-  /// Fraction of light passing each crossing of this surface (0 = opaque, Forest thesis §4.3.3
+  /// Fraction of light passing each crossing of this surface (0 = opaque, Forest 2008 §4.3.3
   /// semi-opaque occluders). Visibility through k crossings is transmittance^k.
   float transmittance = 0.0f;
 

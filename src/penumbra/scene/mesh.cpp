@@ -14,4 +14,17 @@ Vec2 Mesh::uv_at(size_t tri, float u, float v) const {
   return (1.0f - u - v) * uvs[t.v[0]] + u * uvs[t.v[1]] + v * uvs[t.v[2]];
 }
 
+void transform_mesh(Mesh& mesh, const Mat4& m) {
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(m)));
+  for (Vec3& p : mesh.positions) p = Vec3(m * Vec4(p, 1.0f));
+  for (Vec3& n : mesh.normals) {
+    const Vec3 t = normal_matrix * n;
+    const float len = glm::length(t);
+    n = len > 0.0f ? t / len : n;
+  }
+  if (glm::determinant(glm::mat3(m)) < 0.0f) {  // a mirror: keep triangles facing outward
+    for (Triangle& t : mesh.triangles) std::swap(t.v[1], t.v[2]);
+  }
+}
+
 }  // namespace penumbra

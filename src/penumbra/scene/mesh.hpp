@@ -20,9 +20,13 @@ struct Mesh {
   std::vector<Vec2> uvs;  // optional per-vertex texture coordinates (needed by alpha textures)
   std::vector<Triangle> triangles;
   int material = 0;
-  /// Occluder / receiver roles (the image-based methods split the scene, Atty et al. §3.1).
+  /// Occluder / receiver roles (the image-based methods split the scene, Atty 2006 §3.1).
   bool casts_shadows = true;
   bool receives_shadows = true;
+  /// Where the mesh came from, if from a file: world positions = source_transform × the file's.
+  /// Lets a scene be written back as a reference to the file (scene_writer.hpp).
+  std::string source_file;
+  Mat4 source_transform{1.0f};
 
   size_t triangle_count() const { return triangles.size(); }
   Bounds3 bounds() const;
@@ -31,5 +35,11 @@ struct Mesh {
   /// p = (1-u-v) p0 + u p1 + v p2). Zero when the mesh has no UVs.
   Vec2 uv_at(size_t tri, float u, float v) const;
 };
+
+/// Applies an affine model-to-world matrix: positions by M, normals by the inverse transpose of
+/// M's 3×3 (renormalised), and a mirroring M (negative determinant) reverses each triangle so
+/// faces keep facing outward. Scene files and model framing share it, so both give the same
+/// floats.
+void transform_mesh(Mesh& mesh, const Mat4& m);
 
 }  // namespace penumbra

@@ -408,19 +408,9 @@ Mat4 parse_transform(const json& j, const std::string& path) {
 }
 
 void apply_transform(Mesh& mesh, const Mat4& m, const std::string& path) {
-  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(m)));
-  for (Vec3& p : mesh.positions) {
-    p = Vec3(m * Vec4(p, 1.0f));
+  transform_mesh(mesh, m);
+  for (const Vec3& p : mesh.positions)
     if (!is_finite(p)) fail(path, "produces non-finite vertex positions");
-  }
-  for (Vec3& n : mesh.normals) {
-    const Vec3 t = normal_matrix * n;
-    const float len = glm::length(t);
-    n = len > 0.0f ? t / len : n;
-  }
-  if (glm::determinant(glm::mat3(m)) < 0.0f) {  // a mirror: keep triangles facing outward
-    for (Triangle& t : mesh.triangles) std::swap(t.v[1], t.v[2]);
-  }
 }
 
 Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& materials,
@@ -458,6 +448,7 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
       fail(o.at("file"), e.what());
     }
     mesh.name = file.stem().string();
+    mesh.source_file = fs::absolute(file).lexically_normal().string();
   } else if (shape == "quad") {
     const Vec3 center = o.vec3("center"), eu = o.vec3("edge_u"), ev = o.vec3("edge_v");
     if (!(sine_between(DVec3(eu), DVec3(ev)) > kParallelSine))
@@ -489,7 +480,9 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
   mesh.casts_shadows = o.boolean("casts_shadows", true);
   mesh.receives_shadows = o.boolean("receives_shadows", true);
   if (const json* t = o.find("transform")) {
-    apply_transform(mesh, parse_transform(*t, o.at("transform")), o.at("transform"));
+    const Mat4 m = parse_transform(*t, o.at("transform"));
+    apply_transform(mesh, m, o.at("transform"));
+    if (!mesh.source_file.empty()) mesh.source_transform = m;
   }
   return mesh;
 }
@@ -594,15 +587,16 @@ Scene load_scene_file(const fs::path& path) {
   }
 }
 
-Scene load_scene(std::string_view name_or_path) {
+Scene load_scene(std::string_view name_or_path, const ModelFraming& framing) {
   if (is_builtin_scene(name_or_path)) return make_builtin_scene(name_or_path);
   const fs::path path{std::string(name_or_path)};
   std::error_code ec;
-  if (fs::exists(path, ec)) return load_scene_file(path);
+  if (fs::exists(path, ec))
+    return is_model_path(path) ? load_model_scene(path, framing) : load_scene_file(path);
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
   throw Error("unknown scene " + quote(name_or_path, 200) + did_you_mean(name_or_path, names) +
-              ": not a built-in scene (" + join(names) + ") nor an existing scene file");
+              ": not a built-in scene (" + join(names) + ") nor an existing scene or model file");
 }
 
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string_view>
 
+#include "penumbra/scene/model_scene.hpp"
 #include "penumbra/scene/scene.hpp"
 
 namespace penumbra {
@@ -15,8 +16,9 @@ namespace penumbra {
 /// unknown material names, missing or unreadable mesh/texture files.
 Scene load_scene_file(const std::filesystem::path& path);
 
-/// A built-in scene name (see builtin_scenes()) or the path of a JSON scene file. Throws Error
-/// listing the built-in names when `name_or_path` is neither.
-Scene load_scene(std::string_view name_or_path);
+/// A built-in scene name (see builtin_scenes()), the path of a JSON scene file (.json), or the
+/// path of any mesh file assimp reads, framed by `framing` (model_scene.hpp). Throws Error
+/// listing the built-in names when `name_or_path` is none of them.
+Scene load_scene(std::string_view name_or_path, const ModelFraming& framing = {});
 
 }  // namespace penumbra

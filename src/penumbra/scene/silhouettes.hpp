@@ -1,6 +1,6 @@
-// Possible silhouette edges of a mesh w.r.t. a light point [Assarsson paper V; Forest thesis
-// §2.2.1] and w.r.t. a whole area light [Forest thesis §4.1.4], and their split into closed loops
-// [Assarsson paper V, l.1796: the possible silhouette can always be split into closed loops].
+// Possible silhouette edges of a mesh w.r.t. a light point [Assarsson 2003 V; Forest 2008
+// §2.2.1] and w.r.t. a whole area light [Forest 2008 §4.1.4], and their split into closed loops
+// [Assarsson 2003 V, l.1796: the possible silhouette can always be split into closed loops].
 //
 // The robust rule for any mesh (closed, open, non-manifold, inconsistently oriented): signed edge
 // multiplicity. Every valid face f has a side s_f ∈ {+1, −1, 0}: which side of its plane the light
@@ -48,7 +48,7 @@ std::vector<SilhouetteEdge> point_silhouette(const Mesh& mesh, const MeshEdges& 
 /// whole rectangle, disk or sphere; a point light's centre).
 void light_range(const Light& light, const DVec3& n, double d, double& lo, double& hi);
 
-/// Possible silhouette edges w.r.t. the whole light (point, rect, disk, sphere) [Forest §4.1.4]:
+/// Possible silhouette edges w.r.t. the whole light (point, rect, disk, sphere) [Forest 2008 §4.1.4]:
 /// e is kept iff m(e) ≠ 0 for some point of the light. m can change over the light only where an
 /// adjacent face's plane cuts the light, so e is kept iff m(e) ≠ 0 at the light centre or some
 /// adjacent face plane has light points on both sides (closed or touching). For a manifold edge

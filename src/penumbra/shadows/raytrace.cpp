@@ -149,7 +149,7 @@ void register_raytrace(MethodRegistry& registry) {
   MethodInfo info;
   info.name = "raytrace";
   info.summary = "Embree occlusion rays to every light sample (the sampled reference)";
-  info.reference = "[DESIGN.md: the two references]";
+  info.reference = "the sampled reference: Embree [Wald 2014] (docs/references.md)";
   info.sample_exact = true;
   info.options = {{"path",
                    OptionType::choice,

@@ -54,7 +54,7 @@ class MethodOptions {
 struct MethodInfo {
   std::string name;
   std::string summary;
-  std::string reference;      // paper and section, e.g. "[seed 004 §3]"
+  std::string reference;      // paper and section, e.g. "[Wang 2014 §3]"
   bool sample_exact = false;  // same per-sample answer as raytrace on the same light samples
   std::vector<OptionSpec> options;
   std::function<std::unique_ptr<ShadowMethod>(const MethodOptions&)> create;

@@ -114,7 +114,7 @@ void register_pcss(MethodRegistry& registry) {
   info.summary =
       "percentage-closer soft shadows: blocker search, penumbra width from light size, variable "
       "PCF";
-  info.reference = "[Fernando 2005; Forest thesis §2.2.2]";
+  info.reference = "[Fernando 2005 eq. 1; Forest 2008 §2.2.2]";
   info.options = depth_map_option_specs();
   info.options.insert(
       info.options.end(),

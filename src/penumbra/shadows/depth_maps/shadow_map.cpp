@@ -141,7 +141,7 @@ void register_shadow_map(MethodRegistry& registry) {
   info.name = "shadow_map";
   info.summary =
       "hard shadows from a light-centre depth map, constant + slope-scaled bias, k×k PCF";
-  info.reference = "[Forest thesis §2.2.2; Valient & Bujnak §1; Reeves et al. 1987]";
+  info.reference = "[Forest 2008 §2.2.2; Valient 2005 §1; Reeves 1987]";
   info.options = depth_map_option_specs();
   info.options.push_back({"pcf",
                           OptionType::integer,

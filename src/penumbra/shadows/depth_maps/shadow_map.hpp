@@ -1,6 +1,6 @@
 // `shadow_map` (and the helpers `pcss` shares): hard shadows from a light-space depth map rendered
-// from the light centre [Forest thesis §2.2.2; Valient & Bujnak §1], with constant and
-// slope-scaled depth bias and percentage-closer filtering (Reeves et al. 1987).
+// from the light centre [Forest 2008 §2.2.2; Valient 2005 §1], with constant and
+// slope-scaled depth bias and percentage-closer filtering (Reeves 1987).
 //
 // Depth comparison (the same in shadow_map and pcss): a tap at texel (i, j) is blocked iff the
 // stored caster depth is smaller than the depth, at that texel's centre ray, of the receiver's

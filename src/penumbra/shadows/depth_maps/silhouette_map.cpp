@@ -1,5 +1,5 @@
-// `silhouette_map`: shadow maps with silhouette information [seed 001 §2; Valient & Bujnak]. See
-// depth_maps/silhouette_map.hpp and docs/methods/silhouette_map.md.
+// `silhouette_map`: shadow maps with silhouette information [Valient 2005 §2; Valient & Bujnak].
+// See depth_maps/silhouette_map.hpp and docs/methods/silhouette_map.md.
 //
 // Stages of compute():
 //  1. depth map from the light point (the light centre), fitted to the receivers — the same map
@@ -518,7 +518,7 @@ MethodInfo silhouette_map_info() {
   info.summary =
       "shadow map + silhouette layer (signed edge distance, edge depth) from a topology-aware "
       "mesh: anti-aliased hard shadows (eq. 4) or 4-sample soft shadows of a small sphere";
-  info.reference = "[seed 001 §2; Valient & Bujnak]";
+  info.reference = "[Valient 2005 §2, eqs. 1, 2, 4, §2.2.1]";
   info.options = depth_map_option_specs();
   info.options.insert(
       info.options.end(),

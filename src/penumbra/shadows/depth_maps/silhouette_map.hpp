@@ -1,4 +1,4 @@
-// `silhouette_map`: shadow maps with silhouette information (Valient & Bujnak) [seed 001 §2].
+// `silhouette_map`: shadow maps with silhouette information (Valient & Bujnak) [Valient 2005 §2].
 //
 // Shadow-map generation [§2.1]: a standard light-space depth map (shared with shadow_map:
 // receiver_fitted_depth_map), then the silhouette pass over a topology-aware mesh (TAM, §2.1): each

@@ -1,19 +1,19 @@
-// `ssm`: Soft Shadow Maps [seed 002 §3], one-pass and two-pass (§3.5). See depth_maps/ssm.hpp and
+// `ssm`: Soft Shadow Maps [Atty 2006 §3], one-pass and two-pass (§3.5). See depth_maps/ssm.hpp and
 // docs/methods/ssm.md.
 //
 // Stages of compute():
-//  1. occluder/receiver split [seed 002 §3.1]: a mesh with casts_shadows only is an occluder, with
+//  1. occluder/receiver split [Atty 2006 §3.1]: a mesh with casts_shadows only is an occluder, with
 //     receives_shadows only a receiver; meshes with both flags (the default) are occluders, except
 //     — when no mesh is receiver-only — the largest one (bounding-box diagonal: the ground), which
 //     receives only. Occluder pixels get no shadow (V = 1): the method has no self-shadowing.
 //  2. windows in the light's tangent space (x/z, y/z from the light centre, axes along the light's
 //     edges): the occluder window around the occluders, with the light's aspect ratio so that its
-//     texels (resolution²) and hence the micro-patches have the light's aspect [seed 002 §3.2];
+//     texels (resolution²) and hence the micro-patches have the light's aspect [Atty 2006 §3.2];
 //     the soft-shadow-map window = the receivers seen by the camera ∩ the occluders' penumbra.
-//  3. occluder map(s): nearest front faces; two-pass adds the furthest back faces [seed 002 §3.5];
+//  3. occluder map(s): nearest front faces; two-pass adds the furthest back faces [Atty 2006 §3.5];
 //     receiver map (nearest receiver depth) on the soft-shadow-map grid.
-//  4. per occluder texel: micro-patch, pyramid apex and extent [seed 002 §3.3], occlusion of every
-//     soft-shadow-map texel in the extent from its receiver depth [seed 002 §3.4], summed in
+//  4. per occluder texel: micro-patch, pyramid apex and extent [Atty 2006 §3.3], occlusion of every
+//     soft-shadow-map texel in the extent from its receiver depth [Atty 2006 §3.4], summed in
 //     float32 (option fp16: every blend rounded to binary16, appendix A).
 //  5. two-pass: per-texel max of the two soft shadow maps; projection onto the G-buffer pixels
 //     from the light centre (bilinear over texels holding a receiver).
@@ -149,7 +149,7 @@ class Ssm final : public ShadowMethod {
     vis.times.add("fit", elapsed_ms(start));
     if (rbox.empty() || obox.empty()) return vis;
 
-    // Occluder window: a 1e-6 relative margin, then widened to the light's aspect ratio [seed 002
+    // Occluder window: a 1e-6 relative margin, then widened to the light's aspect ratio [Atty 2006
     // §3.2].
     Window ow;
     {
@@ -302,7 +302,7 @@ class Ssm final : public ShadowMethod {
   }
 
  private:
-  /// Micro-patches of one occluder map [seed 002 §3.2] and their penumbra extents [§3.3].
+  /// Micro-patches of one occluder map [Atty 2006 §3.2] and their penumbra extents [§3.3].
   static std::vector<Patch> make_patches(const Image<float>& omap, const Window& ow,
                                          const Window& sw, const LightRect& light, double zr_max) {
     std::vector<Patch> out;
@@ -357,7 +357,7 @@ void register_ssm(MethodRegistry& registry) {
   info.summary =
       "soft shadow maps: occluder-map texels as light-parallel micro-patches, back-projected onto "
       "the rectangular light (one- or two-pass)";
-  info.reference = "[seed 002 §3; Atty et al. 2006]";
+  info.reference = "[Atty 2006 §3, §3.5]";
   info.options = {
       {"resolution", OptionType::integer, "128", "occluder map side in texels", {}, 4, 4096},
       {"ssm_resolution",

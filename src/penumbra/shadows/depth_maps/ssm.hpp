@@ -1,9 +1,9 @@
 // `ssm`: Soft Shadow Maps (Atty, Holzschuch, Lapierre, Hasenfratz, Hansen & Sillion 2006)
-// [seed 002 §3]. The scene is split into occluders and receivers [seed 002 §3.1]; the occluders are
-// rendered into an occluder map from the centre of the rectangular light, axis-aligned with it
-// [seed 002 §3.2]; each occluder texel becomes a micro-patch parallel to the light at its depth;
+// [Atty 2006 §3]. The scene is split into occluders and receivers [Atty 2006 §3.1]; the occluders
+// are rendered into an occluder map from the centre of the rectangular light, axis-aligned with it
+// [Atty 2006 §3.2]; each occluder texel becomes a micro-patch parallel to the light at its depth;
 // its penumbra extent is the rectangular pyramid of §3.3, and inside it every soft-shadow-map
-// texel gets the area of the micro-patch back-projected onto the light [seed 002 §3.4]. The soft
+// texel gets the area of the micro-patch back-projected onto the light [Atty 2006 §3.4]. The soft
 // shadow map is then projected from the light centre onto the G-buffer pixels.
 //
 // This header exposes the light-space pieces (the light's frame, tangent windows, the map
@@ -21,7 +21,7 @@ namespace penumbra::ssm {
 
 using DVec3 = glm::dvec3;
 
-/// The light as the rectangle the algorithm assumes [seed 002 §3.1]: centre C_L, unit axes a, b
+/// The light as the rectangle the algorithm assumes [Atty 2006 §3.1]: centre C_L, unit axes a, b
 /// along its edges, unit n toward the side it emits to, side lengths lu, lv. Light space: a point
 /// p has coordinates (x, y, z) = ((p−C)·a, (p−C)·b, (p−C)·n), z = its depth from the light plane.
 /// Round lights become the square of the same area (disk: in its plane; sphere: facing `toward`);
@@ -67,14 +67,14 @@ Image<float> render_light_map(const Scene& scene, const std::vector<bool>& selec
 
 /// Fraction of the light hidden from receiver point q = (qx, qy, zr) (light space) by the
 /// micro-patch of centre (px, py), half-sizes (hx, hy), at depth zo (parallel to the light)
-/// [seed 002 §3.4]: back-projects the patch from q onto the light plane, rescales the light to
+/// [Atty 2006 §3.4]: back-projects the patch from q onto the light plane, rescales the light to
 /// [0,1]², and multiplies the two interval overlaps. 0 when zr ≤ zo. Finite for any finite input
 /// with zr > zo (a patch touching the receiver gives a huge but finite scale, clamped overlaps).
 double patch_occlusion(double px, double py, double hx, double hy, double zo, double qx, double qy,
                        double zr, double lu, double lv);
 
 /// `x` rounded to IEEE binary16 (s10e5: 11 significant bits, overflow to ±inf, subnormals kept),
-/// returned as float: the precision of the 2006 GPU blending [seed 002 App. A]. Round to nearest
+/// returned as float: the precision of the 2006 GPU blending [Atty 2006 App. A]. Round to nearest
 /// even, or toward zero with `toward_zero` — the rule App. A states (X + ε = X whenever
 /// ε < 2^-10·X, e.g. 0.5 + 1/2049 = 0.5), which the fp16 option applies to each blend.
 float round_to_half(float x, bool toward_zero = false);

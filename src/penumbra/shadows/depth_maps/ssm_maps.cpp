@@ -1,5 +1,5 @@
-// Light-space pieces of `ssm` [seed 002 §3]: the light rectangle, the maps rendered from its centre
-// through an axis-aligned tangent window, the per-micro-patch occlusion and FP16 rounding.
+// Light-space pieces of `ssm` [Atty 2006 §3]: the light rectangle, the maps rendered from its
+// centre through an axis-aligned tangent window, the per-micro-patch occlusion and FP16 rounding.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -32,7 +32,7 @@ LightRect light_rect(const Light& light, const DVec3& toward, double min_size) {
       const DVec3 eu(light.edge_u), ev(light.edge_v);
       r.a = glm::normalize(eu);
       // A parallelogram light is treated as the rectangle of its edge_u and the part of edge_v
-      // perpendicular to it (the algorithm assumes a rectangle [seed 002 §3.1]).
+      // perpendicular to it (the algorithm assumes a rectangle [Atty 2006 §3.1]).
       const DVec3 ev_perp = ev - glm::dot(ev, r.a) * r.a;
       r.b = glm::normalize(ev_perp);
       r.n = glm::normalize(glm::cross(eu, ev));
@@ -134,7 +134,7 @@ double patch_occlusion(double px, double py, double hx, double hy, double zo, do
                        double zr, double lu, double lv) {
   if (!(zr > zo) || !(zo > 0.0)) return 0.0;
   // Back-projection from q through the patch onto the light plane z = 0: a patch point m maps to
-  // q + (m − q)·s, s = z_R/(z_R − z_O) [seed 002 §3.4, Fig. 9]. A patch touching the receiver
+  // q + (m − q)·s, s = z_R/(z_R − z_O) [Atty 2006 §3.4, Fig. 9]. A patch touching the receiver
   // makes s huge (§4.1.2); it stays finite (bounded by 1e12) and the overlaps are clamped.
   const double s = zr / std::max(zr - zo, zr * 1e-12);
   const double a = (qx + (px - hx - qx) * s) / lu + 0.5;

@@ -1,6 +1,6 @@
 // The exact reference's own bounding-volume hierarchy over its occluder triangles. The reference
-// judges every other method, so it shares no candidate-search code with any of them [DESIGN.md
-// "An exact reference"]: a bug in a shared BVH would otherwise cancel out of every comparison.
+// judges every other method, so it shares no candidate-search code with any of them: a bug in a
+// shared BVH would otherwise cancel out of every comparison.
 #pragma once
 
 #include <array>

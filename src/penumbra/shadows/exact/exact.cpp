@@ -444,7 +444,8 @@ void register_exact(MethodRegistry& registry) {
       "analytic visible fraction per pixel: occluders projected onto the light by homogeneous "
       "clipping, union area with exact integer polygon booleans (no samples)";
   info.reference =
-      "[DESIGN.md: an exact reference]; V_coef [seed 003 eq. 2.10], semi-opaque [seed 003 §4.3.3]";
+      "Penumbra's analytic reference: V_coef [Forest 2008 eq. 2.10], semi-opaque occluders "
+      "[Forest 2008 §4.3.3] (docs/references.md)";
   info.sample_exact = false;  // analytic: the limit raytrace converges to, not sample-equal
   info.options = {
       {"disk_segments",

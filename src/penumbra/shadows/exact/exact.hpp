@@ -1,10 +1,10 @@
 // `exact`: the analytic reference. Per receiver point, every occluder polygon between the point
 // and the light is projected onto the light's uv square (exactly, by homogeneous clipping), and
 // the visible fraction is the area of the light left uncovered, measured with exact integer
-// polygon booleans (Clipper) — no light samples [DESIGN.md "An exact reference"]. It is the
-// V_coef of [seed 003 eq. 2.10] integrated exactly: alpha-textured occluders are cut into their
+// polygon booleans (Clipper) — no light samples (docs/methods/exact.md). It is the
+// V_coef of [Forest 2008 eq. 2.10] integrated exactly: alpha-textured occluders are cut into their
 // opaque texel runs, semi-opaque ones multiply by their transmittance per crossing
-// [seed 003 §4.3.3], textured lights weight the light by texel.
+// [Forest 2008 §4.3.3], textured lights weight the light by texel.
 //
 // It shares no candidate search with any method it judges (its own BVH, exact/bvh.hpp).
 #pragma once

@@ -106,7 +106,7 @@ ClipperLib::Paths cancel_shared_edges(std::span<const ClipperLib::Path> polygons
 ClipperLib::Paths union_polygons(const ClipperLib::Paths& polygons, size_t group);
 inline constexpr size_t kUnionGroup = 32;
 
-/// The visible light as a signed combination of regions [seed 003 §4.3.3]. Opaque polygons: the
+/// The visible light as a signed combination of regions [Forest 2008 §4.3.3]. Opaque polygons: the
 /// outline minus their union, B (weight 1). Semi-opaque polygons are grouped by transmittance t;
 /// in a group, w(q) = the number of its polygons covering light point q, and the integrand
 /// t^w = 1 − (1 − t) Σ_{k=1..w} t^(k−1), so

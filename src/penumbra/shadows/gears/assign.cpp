@@ -44,7 +44,7 @@ int clip_far(const DVec3 tri[3], double z_cut, DVec3 out[4]) {
 }
 
 /// 2D AABB, in cells, of the shadow volume of `tri` truncated at depth z_t: the polygon's vertices
-/// and their extrusions through every light corner to z_t, projected by C [seed 004 §3.1 (3.3)].
+/// and their extrusions through every light corner to z_t, projected by C [Wang 2014 §3.1 (3.3)].
 /// Conservative: for a fixed blocking point H the extrusions of the light through H are a central
 /// projection of a convex set, and C's projection is affine on the plane z = z_t, so the projected
 /// volume lies in the convex hull of these points.
@@ -269,7 +269,7 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
         r = footprint(cam, tri, far_z);
         if (r.empty()) ++l_beyond;
         if (!r.empty() && options.retraction) {
-          // Retraction [seed 004 §3.1]: extrude only to the deepest sample in the touched cells.
+          // Retraction [Wang 2014 §3.1]: extrude only to the deepest sample in the touched cells.
           float zr = -kInfinity;
           uint64_t nonempty = 0;
           for (int y = r.y0; y <= r.y1; ++y)
@@ -306,7 +306,7 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   });
   stats.count_ms += elapsed_ms(t0);
 
-  // Prefix sum of cellsN [seed 004 §4.2], in order of nearest depth (ties: triangle id): the
+  // Prefix sum of cellsN [Wang 2014 §4.2], in order of nearest depth (ties: triangle id): the
   // stable sort by cell keeps that order, so each cell's list is sorted by depth and a work item
   // reads only the prefix its deepest sample can be blocked by (the depth cut).
   t0 = std::chrono::steady_clock::now();

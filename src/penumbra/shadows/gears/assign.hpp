@@ -1,4 +1,4 @@
-// GEARS step 3.3: triangle → grid-cell assignment [seed 004 §3.1 (3.3), §4.2]. Each occluder's
+// GEARS step 3.3: triangle → grid-cell assignment [Wang 2014 §3.1 (3.3), §4.2]. Each occluder's
 // shadow volume (3 vertices extruded through the light corners to the far plane, 15 points for a
 // rectangle) is projected with the grid camera; the triangle goes to the cells of the 2D AABB,
 // retracted to the deepest sample of the touched cells. Pairs (triID, cellID) are counted, prefix
@@ -70,7 +70,7 @@ CellTriangles assign_triangles(const GridCamera& camera, const TriangleSoup& sou
 namespace penumbra::gears {
 
 /// Step 3.2: each sample (pixel index, light-space point with this pass's depth sign) to the cell
-/// it projects to; per-cell maximum depth for the retraction [seed 004 §3.1 (3.2)].
+/// it projects to; per-cell maximum depth for the retraction [Wang 2014 §3.1 (3.2)].
 PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& pixels,
                          const std::vector<Vec3>& points);
 

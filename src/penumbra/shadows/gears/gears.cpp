@@ -1,4 +1,4 @@
-// `gears`: exact soft shadows from per-pixel sets of potentially blocking triangles [seed 004 §3,
+// `gears`: exact soft shadows from per-pixel sets of potentially blocking triangles [Wang 2014 §3,
 // §4.2] on the CPU. Steps: (3.1) grid camera C over the pixel samples; (3.2) samples → cells;
 // (3.3) triangles → cells through their projected shadow volumes, with the retraction; (4) per
 // pixel, the candidate triangles of its cell rasterized onto the k×k light-sample bitmask by edge
@@ -560,7 +560,7 @@ void register_gears(MethodRegistry& registry) {
   info.summary =
       "GEARS: per-pixel sets of potentially blocking triangles, rasterized onto light-sample "
       "bitmasks";
-  info.reference = "[seed 004 §3, §4.2, §4.3]";
+  info.reference = "[Wang 2014 §3, §4.2, §4.3]";
   info.sample_exact = true;
   info.options = {
       {"grid",

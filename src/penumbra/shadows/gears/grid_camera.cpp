@@ -110,7 +110,7 @@ GridCamera make_grid_camera(const LightSpace& space, const std::vector<Vec3>& li
   cam.far_z = far_z;
 
   // Eye: on the line from the AABB centre O to the light centre L_m, beyond L_m by
-  // eye_distance × light diagonal [seed 004 §3.1]. A line nearly parallel to the light plane would
+  // eye_distance × light diagonal [Wang 2014 §3.1]. A line nearly parallel to the light plane would
   // put the eye beside the light; then the light normal is used instead.
   float diag = 0.0f;
   for (const Vec3& a : light_corners)
@@ -130,7 +130,7 @@ GridCamera make_grid_camera(const LightSpace& space, const std::vector<Vec3>& li
   cam.eye = eye;
   cam.plane_z = std::max(far_z, 1e-6f);
 
-  // The grid: 2D AABB of the projected samples [seed 004 §4.2].
+  // The grid: 2D AABB of the projected samples [Wang 2014 §4.2].
   cam.res_x = cam.res_y = std::max(1, resolution);
   cam.cell_scale = Vec2(1.0f);
   cam.grid_lo = Vec2(0.0f);

@@ -1,4 +1,4 @@
-// GEARS grid camera C [seed 004 §3.1 step 3.1]: light space (light uv and depth from the light
+// GEARS grid camera C [Wang 2014 §3.1 step 3.1]: light space (light uv and depth from the light
 // plane), the eye behind the light, and the regular grid G over the projected pixel samples.
 #pragma once
 
@@ -14,7 +14,7 @@ namespace penumbra::gears {
 /// For a rectangle or disk the light is the unit square [0,1]² at z = 0 (axis_u, axis_v = the
 /// LightFrame edges); a point light is the origin; a sphere is the cube [0,1]² × [−r, r] around its
 /// centre plane (r in z units). Depth z grows away from the light on the side being computed
-/// (`side` = −1 flips it), so every sample of one pass has z ≥ 0 [seed 004 §3.1: "the light is
+/// (`side` = −1 flips it), so every sample of one pass has z ≥ 0 [Wang 2014 §3.1: "the light is
 /// single sided and only casts rays in one of the half spaces"].
 struct LightSpace {
   Vec3 origin{0.0f};
@@ -36,7 +36,8 @@ LightSpace make_light_space(const Light& light, const LightFrame& frame, const V
 
 /// The grid camera C. Projection of a light-space point q (q.z > eye.z) onto the grid plane:
 ///   g = eye.xy + (q.xy − eye.xy) · (plane_z − eye.z) / (q.z − eye.z), then to cell units.
-/// The image plane is parallel to the light and its axes run along the light edges [seed 004 §3.1].
+/// The image plane is parallel to the light and its axes run along the light edges [Wang 2014
+/// §3.1].
 struct GridCamera {
   Vec3 eye{0.0f};                   // light space, behind the light (eye.z < every light point's z)
   float plane_z = 1.0f;             // depth of the image plane (the far plane)
@@ -59,7 +60,7 @@ struct GridCamera {
   int cell_count() const { return res_x * res_y; }
 };
 
-/// Builds C from the pixel samples (light space, all z ≥ 0 on this side) [seed 004 §3.1, §4.2]:
+/// Builds C from the pixel samples (light space, all z ≥ 0 on this side) [Wang 2014 §3.1, §4.2]:
 /// the eye on the line from the centre of the 3D AABB of samples and light corners toward the
 /// light centre, `eye_distance` × light diagonal behind the light (the light point itself for a
 /// point light: the irregular z-buffer limit of §3.1); grid plane = far plane; the grid covers the

@@ -1,4 +1,4 @@
-// GEARS LUT rasterization [seed 004 §4.3, Table 3–4; after Eisemann & Décoret 2007 and Sintorn et
+// GEARS LUT rasterization [Wang 2014 §4.3, Table 3–4; after Eisemann & Décoret 2007 and Sintorn et
 // al. 2008]: a 2D table indexed by a quantized line in light uv (direction, offset) holding the
 // bitmask of the samples on its positive side. A triangle's coverage is the AND of its four lines'
 // masks. Works for any shared sample positions (irregular patterns too); approximate within one

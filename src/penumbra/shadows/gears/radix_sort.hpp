@@ -1,5 +1,5 @@
 // GEARS: the parallel radix sort that inverts the (item, cell) pairs into per-cell lists
-// [seed 004 §4.2: "sorting the array on cellID's ... begin and end indices per cell"].
+// [Wang 2014 §4.2: "sorting the array on cellID's ... begin and end indices per cell"].
 #pragma once
 
 #include <cstdint>

@@ -175,7 +175,7 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
            bz = load(&batch.v[5][first]) - pz;
   const vf cx = load(&batch.v[6][first]) - px, cy = load(&batch.v[7][first]) - py,
            cz = load(&batch.v[8][first]) - pz;
-  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [seed 004 §4.2: "an edge plane is defined by a
+  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [Wang 2014 §4.2: "an edge plane is defined by a
   // triangle edge and the eye of the camera that computes the bitmask"].
   vf nx[3], ny[3], nz[3];
   nx[0] = ay * bz - az * by, ny[0] = az * bx - ax * bz, nz[0] = ax * by - ay * bx;

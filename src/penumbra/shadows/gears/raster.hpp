@@ -1,4 +1,4 @@
-// GEARS step 4: per-pixel visibility bitmasks by edge-plane rasterization [seed 004 §4.2].
+// GEARS step 4: per-pixel visibility bitmasks by edge-plane rasterization [Wang 2014 §4.2].
 // Seen from pixel point P, triangle ABC blocks the light point X(u, v) iff X lies in the three
 // edge planes' positive half-spaces (P, A, B), (P, B, C), (P, C, A) — all oriented by
 // s = sign(det(A−P, B−P, C−P)) — and beyond the triangle's plane (segment parameter t ≤ 1, which is

@@ -1,15 +1,15 @@
 // The per-pixel coverage of one silhouette edge, the heart of pass 2 of the penumbra-wedge
-// algorithm [seed 000 paper III §3.2; paper IV §4.2; Forest thesis §3.1.2, Algorithm 3].
+// algorithm [Assarsson 2003 III §3.2; Assarsson 2003 IV §4.2; Forest 2008 §3.1.2, Algorithm 3].
 //
 // The edge is projected from the receiver point p onto the light's plane (homogeneous light
 // coordinates of exact/projection.hpp: U, V, W linear in the world point), clipped to the part that
 // can block light (0 < W ≤ 1: between p and the light plane) and to the light (0 ≤ U, V ≤ W), then
 // divided to light uv. Its coverage is the area of the light between the projected segment a→b
 // and the light's boundary, inside the angular sector the segment spans as seen from the light
-// centre c = (0.5, 0.5): "sector area minus triangle" (c, a, b) [paper IV §4.2.2 for rectangles,
-// §4.2.1 for spheres and disks]. Why this is the right quantity: along every ray from c the
-// crossing count of the projected silhouette changes by the edge's multiplicity exactly where the
-// ray crosses the edge, so integrating over the light,
+// centre c = (0.5, 0.5): "sector area minus triangle" (c, a, b) [Assarsson 2003 IV §4.2.2 for
+// rectangles, §4.2.1 for spheres and disks]. Why this is the right quantity: along every ray from c
+// the crossing count of the projected silhouette changes by the edge's multiplicity exactly where
+// the ray crosses the edge, so integrating over the light,
 //     (light-averaged count) = count(c) + Σ_edges ± m_e · sector_minus_triangle_e / light area,
 // which is the paper's "hard shadow from the centre, plus inner, minus outer wedge halves".
 #pragma once
@@ -33,13 +33,13 @@ bool clip_edge_to_light_disk(DVec2& a, DVec2& b);
 /// The box [lo, hi] (containing or touching c = (0.5, 0.5)) clipped to the sector from c spanned
 /// by a and b (angle below π): writes the polygon (at most 8 vertices, counter-clockwise) to
 /// `poly` and returns its vertex count (< 3: empty). 0 when c, a, b are collinear. Shared by
-/// square_sector_minus_triangle and wedge_blend's per-part rectangles [Forest §3.2.1].
+/// square_sector_minus_triangle and wedge_blend's per-part rectangles [Forest 2008 §3.2.1].
 int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b,
                        DVec2 poly[8]);
 
 /// Signed area, in uv units, of the region of the uv square between the segment a→b (inside the
 /// square) and the square's boundary, inside the sector from c = (0.5, 0.5) spanned by a and b:
-/// area(square ∩ sector) − area(c, a, b) [paper IV §4.2.2]. Positive when (c, a, b) turns
+/// area(square ∩ sector) − area(c, a, b) [Assarsson 2003 IV §4.2.2]. Positive when (c, a, b) turns
 /// counter-clockwise, negative when clockwise, 0 when c is on the segment's line.
 double square_sector_minus_triangle(const DVec2& a, const DVec2& b);
 /// The same from the polygon clip_box_to_sector gave for a box holding the sector's part of the
@@ -47,16 +47,17 @@ double square_sector_minus_triangle(const DVec2& a, const DVec2& b);
 double sector_minus_triangle_of(const DVec2* poly, int n, const DVec2& a, const DVec2& b);
 
 /// The same for the inscribed disk: (r²·angle(a, b) − cross(a − c, b − c)) / 2 with r = 0.5
-/// [paper IV §4.2.1].
+/// [Assarsson 2003 IV §4.2.1].
 double disk_sector_minus_triangle(const DVec2& a, const DVec2& b);
 
-/// The 4D coverage texture of paper III §3.3 for a uniform rectangular light: the coverage
+/// The 4D coverage texture of Assarsson 2003 III §3.3 for a uniform rectangular light: the coverage
 /// f(x1, y1, x2, y2) = |square_sector_minus_triangle(a, b)| of the light by the projected hard
-/// shadow quad of a clipped edge a = (x1, y1) → b = (x2, y2) (paper III fig. 8), precomputed with
-/// exact clipping for both endpoints on an n × n grid over the light (n⁴ floats) and looked up per
-/// pixel. In light uv it is the same for every rectangle, so one table serves every light and
-/// sub-light. The sign (outer or inner half) is not in the table: it is taken exactly from the
-/// orientation of (c, a, b), as paper III §3.2.2 takes it from the half-space of the quad.
+/// shadow quad of a clipped edge a = (x1, y1) → b = (x2, y2) (Assarsson 2003 III fig. 8),
+/// precomputed with exact clipping for both endpoints on an n × n grid over the light (n⁴ floats)
+/// and looked up per pixel. In light uv it is the same for every rectangle, so one table serves
+/// every light and sub-light. The sign (outer or inner half) is not in the table: it is taken
+/// exactly from the orientation of (c, a, b), as Assarsson 2003 III §3.2.2 takes it from the
+/// half-space of the quad.
 /// **Deviation:** the paper puts the n × n positions at texel centres; we put them at
 /// i / (n − 1), i = 0..n−1, so that endpoints on the light's border (most clipped endpoints) are
 /// interpolated, not extrapolated. The unsigned f is continuous: where the segment passes through
@@ -64,8 +65,9 @@ double disk_sector_minus_triangle(const DVec2& a, const DVec2& b);
 class CoverageTexture {
  public:
   enum class Lookup {
-    bilinear,  // nearest grid point for a, bilinear in b (paper III §3.3, "bilinear filtering")
-    quadrilinear,  // bilinear in a of bilinear in b (16 taps, paper III §3.3)
+    bilinear,      // nearest grid point for a, bilinear in b (Assarsson 2003 III §3.3, "bilinear
+                   // filtering")
+    quadrilinear,  // bilinear in a of bilinear in b (16 taps, Assarsson 2003 III §3.3)
   };
   explicit CoverageTexture(int n);
   int n() const { return n_; }
@@ -108,8 +110,8 @@ DVec3 weighted_sector_minus_triangle(const LightEmission& emission, const DVec2&
 /// inside the light square: exact over the texels.
 DVec3 emission_in_box(const LightEmission& emission, const DVec2& lo, const DVec2& hi);
 
-/// The RGB coverage texture for a textured rectangular light (issue 4; paper III §3.3 "also
-/// serves textured lights"): per endpoint pair on the same n × n grid as CoverageTexture, the
+/// The RGB coverage texture for a textured rectangular light (issue 4; Assarsson 2003 III §3.3
+/// "also serves textured lights"): per endpoint pair on the same n × n grid as CoverageTexture, the
 /// unsigned |weighted_sector_minus_triangle| per channel, computed exactly by clipping the region
 /// against every texel. Unlike the uniform table, the unsigned value is discontinuous where the
 /// segment passes through c (the region jumps from the half-square on one side to the other's),

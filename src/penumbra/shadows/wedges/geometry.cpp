@@ -106,8 +106,8 @@ bool sphere_side(PlaneSink& sink, const DVec3& p, const DVec3& q) {
 }
 
 /// The faces of the end pyramid at p (rays p − x_k: the light hull reflected through p) that face
-/// away from the other endpoint [paper IV §4.1]: every plane through p and two rays with all rays
-/// on its positive side, kept iff the other endpoint is on it too (PlaneSink checks both).
+/// away from the other endpoint [Assarsson 2003 IV §4.1]: every plane through p and two rays with
+/// all rays on its positive side, kept iff the other endpoint is on it too (PlaneSink checks both).
 void pyramid_faces(PlaneSink& sink, const DVec3& p) {
   const std::vector<DVec3>& h = sink.light.hull;
   for (size_t i = 0; i < h.size(); ++i) {
@@ -182,7 +182,7 @@ Wedge build_wedge(const DVec3& e0, const DVec3& e1, double weight, const WedgeLi
   const double len = glm::length(b - a);
   bool missing = touches;
   if (!(len > 1e-12 * ext)) {
-    // A single cone (paper III fig. 4b): the pyramid of the light hull at the top edge.
+    // A single cone (Assarsson 2003 III fig. 4b): the pyramid of the light hull at the top edge.
     pyramid_faces(sink, b);
   } else if (construction == WedgeConstruction::paper && light.round) {
     const DVec3 d = (b - a) / len;
@@ -194,7 +194,8 @@ Wedge build_wedge(const DVec3& e0, const DVec3& e1, double weight, const WedgeLi
     pyramid_faces(sink, a);
     pyramid_faces(sink, b);
   }
-  if (touches) sink.add(light.normal, c, false);  // the emitting half-space (paper IV §4.1)
+  if (touches)
+    sink.add(light.normal, c, false);  // the emitting half-space (Assarsson 2003 IV §4.1)
   w.degenerate = missing;
   return w;
 }

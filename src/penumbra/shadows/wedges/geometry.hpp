@@ -1,25 +1,26 @@
 // One penumbra wedge per silhouette edge: a conservative volume holding every point whose view of
-// the light the edge can cut [seed 000 paper III §3.1; paper IV §4.1; Forest thesis §3.1.1,
+// the light the edge can cut [Assarsson 2003 III §3.1; Assarsson 2003 IV §4.1; Forest 2008 §3.1.1,
 // App. 3.B]. The coverage per pixel is exact (wedges/coverage.hpp); the wedge only culls which
 // pixels get it, so it must contain the exact region and should be tight.
 //
 // The exact region of an edge e = (e0, e1) and a light L is S = {x + t·(X − x) : x ∈ L, X ∈ e,
 // t ≥ 1}. Two constructions (method option `construction`):
-//  - `paper` (default) [paper III §3.1, paper IV §4.1]: the vertex farther from the light centre
+//  - `paper` (default) [Assarsson 2003 III §3.1, Assarsson 2003 IV §4.1]: the vertex farther from
+//  the light centre
 //    c is moved toward c until both are at the same distance (top edge e0', e1). Rectangular
-//    lights (paper IV §4.1, the tighter wedge): front and back planes through the top edge,
-//    tangent to the rectangle (touching its corners); the sides are the faces of the two end
+//    lights (Assarsson 2003 IV §4.1, the tighter wedge): front and back planes through the top
+//    edge, tangent to the rectangle (touching its corners); the sides are the faces of the two end
 //    pyramids (apex at a top-edge endpoint, the rectangle reflected through it) that face away
 //    from the other endpoint ("the two leftmost and two rightmost triangles"). Round lights (disk,
-//    sphere) use their bounding sphere (c, R) (paper III §3.1): front and back planes through the
-//    top edge tangent to the sphere; the right (left) plane through e0' (e1) contains the
-//    direction ⟂ to both the top edge and c − e0' (c − e1) and is turned about it until it
+//    sphere) use their bounding sphere (c, R) (Assarsson 2003 III §3.1): front and back planes
+//    through the top edge tangent to the sphere; the right (left) plane through e0' (e1) contains
+//    the direction ⟂ to both the top edge and c − e0' (c − e1) and is turned about it until it
 //    touches the sphere, the other endpoint inside.
 //  - `hull`: the tightest polyhedral volume: conv{e0, e1} + cone{e_i − x_k} (x_k the light hull
 //    points: rectangle corners, a disk's bounding square, a sphere's bounding cube), cut by the
 //    planes through the real edge tangent to the hull and the end-pyramid faces at the real
 //    endpoints facing away from the other endpoint.
-// Both extrude to infinity away from the light (Forest App. 3.B): no far cap.
+// Both extrude to infinity away from the light (Forest 2008 App. 3.B): no far cap.
 //
 // Why every plane is conservative (one lemma for all of them). Let f(y) = n·y − d with f ≤ 0 on
 // the whole light and f ≥ 0 at both top-edge endpoints. The moved vertex is e0' = c + s·(e0 − c),
@@ -35,13 +36,14 @@
 // exist is dropped — the front/back planes when the light's hull wraps around the top edge's line
 // (or its bounding sphere meets that line), a round light's side plane when the sphere contains the
 // vertex or the other endpoint cannot be kept inside. A top edge of zero length (an edge pointing
-// at the light centre, paper III fig. 4b "a single cone") gets the pyramid faces of the light hull
-// at that point. An edge that crosses a one-sided light (rectangle or disk) inside the light is
-// clipped to the emitting side first (paper IV §4.1, "If an edge intersects the light source"): the
-// wedge then also gets the light's plane, and for an edge touching the light that half-space is
-// all that remains (paper IV: "all wedge planes are coplanar"). Receivers strictly behind a
-// one-sided light (which it does not light) may then miss that edge's coverage; edges that cross
-// the light's plane outside the light need no clip (the lemma holds on both sides).
+// at the light centre, Assarsson 2003 III fig. 4b "a single cone") gets the pyramid faces of the
+// light hull at that point. An edge that crosses a one-sided light (rectangle or disk) inside the
+// light is clipped to the emitting side first (Assarsson 2003 IV §4.1, "If an edge intersects the
+// light source"): the wedge then also gets the light's plane, and for an edge touching the light
+// that half-space is all that remains (Assarsson 2003 IV: "all wedge planes are coplanar").
+// Receivers strictly behind a one-sided light (which it does not light) may then miss that edge's
+// coverage; edges that cross the light's plane outside the light need no clip (the lemma holds on
+// both sides).
 //
 // The wedge is split by the hard-shadow quad (the plane through the light centre and the edge)
 // into its inner and outer halves; the pass-2 sign follows from the projected geometry
@@ -63,11 +65,13 @@ struct WedgeLight {
   /// disk's bounding square, a sphere's bounding cube), with `centre` inside.
   std::vector<DVec3> hull;
   DVec3 centre{0.0};  // the light centre (hard-shadow point, silhouettes)
-  /// `paper` against the bounding sphere (centre, radius): disks and spheres (paper III §3.1).
+  /// `paper` against the bounding sphere (centre, radius): disks and spheres (Assarsson 2003 III
+  /// §3.1).
   bool round = false;
   double radius = 0.0;
   /// A planar light emitting to one side (rect, disk, not two-sided): edges crossing the light are
-  /// clipped to the emitting side [paper IV §4.1]. The light is the parallelogram corner + [0,1]·u
+  /// clipped to the emitting side [Assarsson 2003 IV §4.1]. The light is the parallelogram corner +
+  /// [0,1]·u
   /// + [0,1]·v (a disk: its inscribed circle, `radius`), emitting toward `normal` (unit).
   bool one_sided = false;
   bool disk = false;

@@ -1,10 +1,10 @@
 // The machinery shared by `wedges` (wedges/wedges.hpp) and `wedge_blend` (wedges/wedge_blend.hpp):
 // light hull, per-frame pixel setup, caster groups and their silhouette edges, hard counts (pass
 // 1), wedge construction and screen binning, and the per-pixel visit of the wedges of a pixel's
-// tile (pass 2) [seed 000 paper III §3.1–3.2, paper IV §4; Forest thesis §3.1, Algorithm 3].
+// tile (pass 2) [Assarsson 2003 III §3.1–3.2, Assarsson 2003 IV §4; Forest 2008 §3.1, Algorithm 3].
 //
-// Groups. Paper IV §5.1's overlap approximation and Forest §3.2's blending both need the hard
-// count and the wedge coverage of each silhouette loop separately (Forest Algorithm 4 line 4:
+// Groups. Paper IV §5.1's overlap approximation and Forest 2008 §3.2's blending both need the hard
+// count and the wedge coverage of each silhouette loop separately (Forest 2008 Algorithm 4 line 4:
 // "render_silhouette_shadow_volumes(edges)"). A loop's hard count needs a surface it bounds, so
 // we group by light-facing patch: the faces that face the light centre, connected across
 // manifold edges whose two faces both do (for an open mesh, back-facing faces form patches too:
@@ -87,7 +87,7 @@ struct PixelSetup {
   bool any_active = false;
   /// Per kTile × kTile tile (row-major): the world-space box of its active shadow origins (empty:
   /// lo > hi). A wedge whose planes all miss a tile's box skips the tile — the CPU form of the
-  /// GPU's hierarchical depth culling of wedge fragments [paper IV §4.4].
+  /// GPU's hierarchical depth culling of wedge fragments [Assarsson 2003 IV §4.4].
   int tiles_x = 0, tiles_y = 0;
   std::vector<DVec3> tile_lo, tile_hi;
   /// The per-pixel part of the hard counts, shared by every (sub-)light and group.
@@ -124,7 +124,8 @@ CasterMeshes caster_meshes(const Scene& scene);
 Casters make_casters(const CasterMeshes& meshes, const Vec3& centre);
 Casters make_casters(const Scene& scene, const Vec3& centre);
 
-/// A silhouette edge from the light centre [paper III §3.1]: weight = multiplicity / layers.
+/// A silhouette edge from the light centre [Assarsson 2003 III §3.1]: weight = multiplicity /
+/// layers.
 struct WedgeEdge {
   DVec3 from{0.0}, to{0.0};
   double weight = 0.0;
@@ -133,8 +134,8 @@ struct WedgeEdge {
 /// In group order (so wedge indices, hence tile bins, are sorted by group).
 std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& centre);
 
-/// Pass 1 [paper III §3.2, Forest Algorithm 3 line 1] over all groups: Σ count / layers.
-/// `pixels`: the shared per-pixel setup (PixelSetup::volume), computed here when null.
+/// Pass 1 [Assarsson 2003 III §3.2, Forest 2008 Algorithm 3 line 1] over all groups: Σ count /
+/// layers. `pixels`: the shared per-pixel setup (PixelSetup::volume), computed here when null.
 Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
                             const ShadowVolumePixels* pixels = nullptr);
 
@@ -180,7 +181,7 @@ struct PassCounters {
 };
 
 /// The light as seen from one pixel's point: projects and clips a wedge's edge, gives its
-/// coverage [wedges/coverage.hpp; paper IV §4.2].
+/// coverage [wedges/coverage.hpp; Assarsson 2003 IV §4.2].
 class PixelLight {
  public:
   PixelLight(const Light& light, const LightFrame& fixed_frame, bool per_pixel_frame,
@@ -270,9 +271,9 @@ void visit_covered(const PixelLight& pl, const BinnedWedges& bw, const std::vect
   }
 }
 
-/// Per pixel, per group in group order (paper IV §5.1, Forest Algorithm 4 lines 2–7): calls
-/// f(group, hard count of the group, covered edges of the group) for every group with a nonzero
-/// count at pixel i or a wedge in the bin. Count entries and bins are both sorted by group.
+/// Per pixel, per group in group order (Assarsson 2003 IV §5.1, Forest 2008 Algorithm 4 lines 2–7):
+/// calls f(group, hard count of the group, covered edges of the group) for every group with a
+/// nonzero count at pixel i or a wedge in the bin. Count entries and bins are both sorted by group.
 template <class F>
 void for_each_group(const GroupCounts& gc, size_t i, const PixelLight* pl,
                     const std::vector<uint32_t>& bin, const BinnedWedges* bw, PassCounters& c,

@@ -1,16 +1,17 @@
 // Which pixels a wedge can touch: a conservative screen-space bound of its region, the CPU
-// counterpart of rasterizing the wedge's polygons [seed 000 paper III §3.2; Forest thesis
+// counterpart of rasterizing the wedge's polygons [Assarsson 2003 III §3.2; Forest 2008
 // §3.1.2]. GPUs rasterize the front faces of the wedge and test the back faces per pixel; on the
 // CPU we bound the whole wedge on screen and test every candidate pixel's G-buffer point against
 // the wedge's planes exactly (wedges/geometry.hpp), which needs no near-plane or camera-inside-
-// wedge special case (paper III §5.3, Forest §3.1.3): the test is in world space, per point.
+// wedge special case (Assarsson 2003 III §5.3, Forest 2008 §3.1.3): the test is in world space, per
+// point.
 //
 // The region S of an edge (wedges/geometry.hpp) lies in the polyhedron conv{t0, t1} + cone{t_i −
 // x_k} (x_k the light hull points, t0–t1 the wedge's top edge: the edge itself for `hull`, the
 // edge with its farther vertex moved toward the light centre for `paper`, which still holds S
 // because e0 = e0' + (1/s − 1)·(e0' − c) and c is a convex combination of the x_k): homogeneous
 // generators (t_i, 1) and (t_i − x_k, 0), i.e. the top edge extruded to infinity away from every
-// light point [Forest App. 3.B]. Only points between
+// light point [Forest 2008 App. 3.B]. Only points between
 // the nearest and farthest G-buffer depths matter, so the polyhedron is cut to that slab of view
 // depths; the extreme points of the cut polyhedron are generators inside the slab and
 // intersections of generator pairs with the slab's planes. Their projections' convex hull bounds

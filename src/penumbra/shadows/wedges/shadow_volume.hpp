@@ -1,5 +1,5 @@
 // `shadow_volume`: exact hard shadows from one light point by shadow-volume counting, done per
-// G-buffer pixel on the CPU ("deferred" shadow volumes) [Forest thesis §2.2.1, §3.3.1, App. 3.A].
+// G-buffer pixel on the CPU ("deferred" shadow volumes) [Forest 2008 §2.2.1, §3.3.1, App. 3.A].
 //
 // Volume: the sum of every caster triangle's own shadow volume (its near cap, three side quads
 // extruded to infinity, its far cap at infinity). Side quads of an edge shared by two triangles
@@ -8,10 +8,10 @@
 // edges whatever the sum gives). The per-pixel count is therefore
 //     count(p) = number of caster triangles crossed by the segment p → light
 // for ANY mesh (closed, open, non-manifold, inconsistently oriented): 0 = lit. This is what the
-// soft methods (wedges, DCS) start from [Forest §4.1.1].
+// soft methods (wedges, DCS) start from [Forest 2008 §4.1.1].
 //
-// Counting (z-fail, from infinity [Forest App. 3.A]): for each pixel's shadow origin p, the ray
-// from p away from the camera crosses the volume boundary; each crossing adds +w where the face
+// Counting (z-fail, from infinity [Forest 2008 App. 3.A]): for each pixel's shadow origin p, the
+// ray from p away from the camera crosses the volume boundary; each crossing adds +w where the face
 // is back-facing from the camera (the ray leaves) and −w where it is front-facing (it enters). The
 // faces are the near caps, silhouette quads and far caps; quads and far caps have vertices at
 // infinity (homogeneous w = 0), so extrusion is exact. Nothing is needed at the camera, so a

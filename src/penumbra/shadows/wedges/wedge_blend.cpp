@@ -9,9 +9,9 @@
 
 #include "penumbra/core/stats.hpp"
 #include "penumbra/shadows/registry.hpp"
-#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra {
 
@@ -19,14 +19,14 @@ namespace {
 
 using namespace wedge_pass;
 
-constexpr int kParts = 4;  // Forest §3.2.1, §3.3.3: four light parts split at the centre
+constexpr int kParts = 4;  // Forest 2008 §3.2.1, §3.3.3: four light parts split at the centre
 
 double cross2(const DVec2& a, const DVec2& b) {
   return a.x * b.y - a.y * b.x;
 }
 
 /// A rectangle in part-local coordinates: s = |u − ½|, t = |v − ½| ∈ [0, ½] (the light centre at
-/// the origin; every part treated "by symmetry" as the upper-right one, Forest §3.3.3).
+/// the origin; every part treated "by symmetry" as the upper-right one, Forest 2008 §3.3.3).
 struct Rect {
   double s0 = kInfinity, t0 = kInfinity, s1 = -kInfinity, t1 = -kInfinity;
   bool empty() const { return !(s1 > s0 && t1 > t0); }
@@ -49,7 +49,7 @@ struct Rect {
   }
 };
 
-/// One light part of a V-buffer pixel [Forest Algorithm 6]: occluded fraction of the part's
+/// One light part of a V-buffer pixel [Forest 2008 Algorithm 6]: occluded fraction of the part's
 /// light (per channel: its emitted power; the channels are equal for an untextured light) and
 /// rectangle.
 struct VPart {
@@ -57,7 +57,7 @@ struct VPart {
   Rect rect;
 };
 
-/// One light part of an SV-buffer pixel [Forest §3.3.3: occ, brect, outer-edge maxima], plus
+/// One light part of an SV-buffer pixel [Forest 2008 §3.3.3: occ, brect, outer-edge maxima], plus
 /// what the inner edges need to shrink the rectangle (their maxima and the angle they span).
 struct SvPart {
   DVec3 occ{0.0};
@@ -348,7 +348,7 @@ void register_wedge_blend(MethodRegistry& registry) {
   info.summary =
       "penumbra-wedge blending: per caster group an SV-buffer of four light parts (occlusion, "
       "bounding rectangle), blended with the effective overlapped area heuristic";
-  info.reference = "[seed 003 Forest thesis §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
+  info.reference = "[Forest 2008 §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
   info.sample_exact = false;
   info.options = {wedge_construction_option()};
   info.create = [](const MethodOptions& o) {

@@ -1,4 +1,4 @@
-// `wedge_blend`: penumbra-wedge blending [seed 003, Forest thesis §3.2 (Algorithms 4–6, eq. 3.1)
+// `wedge_blend`: penumbra-wedge blending [Forest 2008, Forest 2008 §3.2 (Algorithms 4–6, eq. 3.1)
 // and its implementation §3.3.3–3.3.4], on the CPU, per G-buffer pixel, on top of the `wedges`
 // machinery (wedges/pass.hpp: same wedges, hard counts, coverage and screen binning).
 //

@@ -8,8 +8,8 @@
 #include "penumbra/core/stats.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/registry.hpp"
-#include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
+#include "penumbra/shadows/wedges/shadow_volume.hpp"
 
 namespace penumbra {
 
@@ -56,8 +56,8 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
                      : weighted_sector_minus_triangle(*rgb.emission, e.a, e.b);
   };
 
-  // Silhouette edges from the light centre [paper III §3.1], one wedge each. With the overlap
-  // approximation, per group (light-facing patch: its silhouette loops, wedges/pass.hpp).
+  // Silhouette edges from the light centre [Assarsson 2003 III §3.1], one wedge each. With the
+  // overlap approximation, per group (light-facing patch: its silhouette loops, wedges/pass.hpp).
   auto start = std::chrono::steady_clock::now();
   const Casters casters = make_casters(shared.casters, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
@@ -131,7 +131,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   st.wedge_fallbacks += bw.degenerate;
   st.wedges_ms += elapsed_ms(start);
 
-  // Pass 2 [paper III §3.2; Forest Algorithm 3]: per pixel, every wedge of its tile.
+  // Pass 2 [Assarsson 2003 III §3.2; Forest 2008 Algorithm 3]: per pixel, every wedge of its tile.
   start = std::chrono::steady_clock::now();
   PassCounters pc;
   Image<float> vis = run_pass2(
@@ -168,7 +168,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
 namespace {
 
-/// Sub-light (i, j) of an n × n split of a rectangular light [paper IV §5.2].
+/// Sub-light (i, j) of an n × n split of a rectangular light [Assarsson 2003 IV §5.2].
 Light sub_light(const Light& light, int n, int i, int j) {
   Light sub = light;
   sub.edge_u = light.edge_u / static_cast<float>(n);
@@ -244,7 +244,8 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
   const FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
   st.silhouettes_ms += elapsed_ms(start);  // the adjacency silhouettes need (and the pixel setup)
   const Light& light = ctx.light;
-  // Light splitting [paper IV §5.2]: rectangles only (a sub-square of a disk is not a disk).
+  // Light splitting [Assarsson 2003 IV §5.2]: rectangles only (a sub-square of a disk is not a
+  // disk).
   const int n = light.shape == LightShape::rect ? std::max(1, options.split) : 1;
   st.sub_lights = static_cast<size_t>(n) * n;
   Image<float> vis;
@@ -298,14 +299,15 @@ void register_wedges(MethodRegistry& registry) {
   info.summary =
       "soft shadow volumes: hard count from the light centre plus analytic penumbra-wedge "
       "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB)";
-  info.reference = "[seed 000 papers III §3, IV §4–5; Forest thesis §3.1, App. 3.B]";
+  info.reference = "[Assarsson 2003 III §3, IV §4–5; Forest 2008 §3.1, App. 3.B]";
   info.sample_exact = false;
   info.options = {
       wedge_construction_option(),
       {"split",
        OptionType::integer,
        "1",
-       "split a rectangular light into split x split sub-lights (paper IV 5.2); ignored for round "
+       "split a rectangular light into split x split sub-lights (Assarsson 2003 IV 5.2); ignored "
+       "for round "
        "lights",
        {},
        1,
@@ -313,7 +315,8 @@ void register_wedges(MethodRegistry& registry) {
       {"overlap",
        OptionType::boolean,
        "false",
-       "overlap approximation (paper IV 5.1, eq. 1): per silhouette loop (light-facing patch) "
+       "overlap approximation (Assarsson 2003 IV 5.1, eq. 1): per silhouette loop (light-facing "
+       "patch) "
        "coverage, combined as max + 1/2 min",
        {},
        0,
@@ -322,7 +325,8 @@ void register_wedges(MethodRegistry& registry) {
        OptionType::choice,
        "analytic",
        "edge coverage on a rectangular light: analytic sector minus triangle, or the 4D coverage "
-       "texture of paper III 3.3; a textured rectangular light gets RGB visibility from the "
+       "texture of Assarsson 2003 III 3.3; a textured rectangular light gets RGB visibility from "
+       "the "
        "emission-weighted coverage (exact per texel, or the RGB coverage texture)",
        {"analytic", "texture"}},
       {"texture_n",
@@ -336,7 +340,7 @@ void register_wedges(MethodRegistry& registry) {
        OptionType::choice,
        "bilinear",
        "coverage texture filtering: nearest first endpoint and bilinear second (bilinear), or "
-       "bilinear in both (quadrilinear), paper III 3.3",
+       "bilinear in both (quadrilinear), Assarsson 2003 III 3.3",
        {"bilinear", "quadrilinear"}},
   };
   info.create = [](const MethodOptions& o) {
@@ -358,7 +362,8 @@ OptionSpec wedge_construction_option() {
           OptionType::choice,
           "paper",
           "penumbra-wedge construction: paper (the farther vertex moved toward the light centre; "
-          "paper III 3.1, and paper IV 4.1's tighter wedge for rectangles) or hull (the tightest "
+          "Assarsson 2003 III 3.1, and Assarsson 2003 IV 4.1's tighter wedge for rectangles) or "
+          "hull (the tightest "
           "polyhedral volume of the real edge); both conservative, docs/methods/wedges.md",
           {"paper", "hull"}};
 }

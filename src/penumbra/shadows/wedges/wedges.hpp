@@ -1,10 +1,9 @@
-// `wedges`: soft shadow volumes with penumbra wedges [seed 000 paper III (Assarsson &
-// Akenine-Möller 2003) §3, paper IV (Assarsson, Dougherty, Mounier, Akenine-Möller 2003) §4–5;
-// Forest thesis (seed 003) §3.1, Algorithm 3, App. 3.B], on the CPU, per G-buffer pixel.
+// `wedges`: soft shadow volumes with penumbra wedges [Assarsson 2003 III §3, Assarsson 2003 IV
+// §4–5; Forest 2008 §3.1, Algorithm 3, App. 3.B], on the CPU, per G-buffer pixel.
 //
-// Pass 1: the hard-shadow count from the light centre (wedges/shadow_volume.hpp). Pass 2: one wedge per
-// silhouette edge from the light centre (wedges/geometry.hpp); for every pixel whose shadow origin
-// lies inside it, the edge is projected onto the light and its signed coverage
+// Pass 1: the hard-shadow count from the light centre (wedges/shadow_volume.hpp). Pass 2: one wedge
+// per silhouette edge from the light centre (wedges/geometry.hpp); for every pixel whose shadow
+// origin lies inside it, the edge is projected onto the light and its signed coverage
 // (wedges/coverage.hpp) is added (outer half: the edge occludes) or subtracted (inner half: the
 // hard count over-estimates). Visible fraction V = 1 − clamp(count + Σ coverage, 0, 1).
 //
@@ -15,12 +14,13 @@
 // centre is counted whole and divided by its layer count (2 for a closed 2-manifold, 1 otherwise).
 //
 // What it gets right and wrong (measured, docs/methods/wedges.md): exact for one planar convex
-// occluder (paper III §5.3: the silhouette seen from every light point is the one seen from the
-// centre and nothing overlaps); elsewhere the single-silhouette approximation (the silhouette
-// from the light centre stands for all light points) and the overlap error (coverages of
-// different edges are summed, not unioned) remain, reduced by splitting the light (paper IV §5.2)
-// and, for the overlap error between separate casters, by the overlap approximation (paper IV
-// §5.1, option `overlap`) or by penumbra-wedge blending (Forest §3.2, wedges/wedge_blend.hpp).
+// occluder (Assarsson 2003 III §5.3: the silhouette seen from every light point is the one seen
+// from the centre and nothing overlaps); elsewhere the single-silhouette approximation (the
+// silhouette from the light centre stands for all light points) and the overlap error (coverages of
+// different edges are summed, not unioned) remain, reduced by splitting the light (Assarsson 2003
+// IV §5.2) and, for the overlap error between separate casters, by the overlap approximation
+// (Assarsson 2003 IV §5.1, option `overlap`) or by penumbra-wedge blending (Forest 2008 §3.2,
+// wedges/wedge_blend.hpp).
 #pragma once
 
 #include <cstdint>
@@ -33,17 +33,18 @@
 namespace penumbra {
 
 struct WedgeOptions {
-  /// The wedge construction [wedges/geometry.hpp]: paper III §3.1 / IV §4.1 (moved vertex), or the
-  /// tightest polyhedral hull of the edge's region.
+  /// The wedge construction [wedges/geometry.hpp]: Assarsson 2003 III §3.1 / IV §4.1 (moved
+  /// vertex), or the tightest polyhedral hull of the edge's region.
   WedgeConstruction construction = WedgeConstruction::paper;
-  int split = 1;  // split a rectangular light into split × split sub-lights (paper IV §5.2)
-  /// Overlap approximation [paper IV §5.1, eq. 1]: each group's coverage (hard count + its
+  int split =
+      1;  // split a rectangular light into split × split sub-lights (Assarsson 2003 IV §5.2)
+  /// Overlap approximation [Assarsson 2003 IV §5.1, eq. 1]: each group's coverage (hard count + its
   /// wedges, clamped) is computed apart and combined as max + ½ min. Groups are connected
   /// light-facing patches, each bounded by its silhouette loops (wedges/pass.hpp).
   bool overlap = false;
   /// Coverage of a clipped edge on a rectangular light: analytic sector minus triangle, or the 4D
-  /// coverage texture of paper III §3.3 (texture_n² × texture_n² entries, `lookup` filtering).
-  /// Round lights always use the analytic formula.
+  /// coverage texture of Assarsson 2003 III §3.3 (texture_n² × texture_n² entries, `lookup`
+  /// filtering). Round lights always use the analytic formula.
   bool texture = false;
   int texture_n = 32;
   CoverageTexture::Lookup lookup = CoverageTexture::Lookup::bilinear;

@@ -1,0 +1,100 @@
+#include "penumbra/report/summary_table.hpp"
+
+#include <cstdio>
+
+namespace penumbra {
+
+namespace {
+
+const TableRow* find_row(const std::vector<TableRow>& rows, const std::string& name) {
+  for (const TableRow& r : rows)
+    if (r.method == name && r.failure.empty()) return &r;
+  return nullptr;
+}
+
+std::string fmt(const char* format, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, value);
+  return buf;
+}
+
+}  // namespace
+
+std::string summary_header(const Frame& frame, const std::string& shading) {
+  const LightSampleSpec& spec = frame.samples().spec();
+  const Scene& scene = frame.scene();
+  return "Scene `" + scene.name + "`, " + std::to_string(frame.gbuffer().width) + "×" +
+         std::to_string(frame.gbuffer().height) + " pixels, " + std::to_string(spec.k) + "×" +
+         std::to_string(spec.k) + " = " + std::to_string(frame.samples().count()) +
+         " light samples (`" + std::string(to_string(spec.pattern)) + "` pattern, seed " +
+         std::to_string(spec.seed) + "), " + std::to_string(scene.lights.size()) + " light(s), " +
+         std::to_string(scene.triangle_count()) + " triangles, shading `" + shading + "`.\n";
+}
+
+std::string format_table(const std::vector<TableRow>& rows) {
+  const TableRow* rt = find_row(rows, "raytrace");
+  std::string out =
+      "| method | time (ms) | speed vs raytrace | mean abs (shadowed) | mean abs | max abs | rmse "
+      "| > 1/255 |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const TableRow& r : rows) {
+    if (!r.failure.empty()) {
+      out += "| " + r.method + " | failed: " + r.failure + " | | | | | | |\n";
+      continue;
+    }
+    out += "| " + r.method + " | " + fmt("%.1f", r.ms) + " | ";
+    out += rt && r.ms > 0.0 ? fmt("%.2fx", rt->ms / r.ms) : std::string("-");
+    if (r.vs_exact) {
+      const ErrorStats& e = *r.vs_exact;
+      out += " | " + fmt("%.5f", e.mean_abs_shadowed) + " | " + fmt("%.5f", e.mean_abs) + " | " +
+             fmt("%.4f", e.max_abs) + " | " + fmt("%.5f", e.rmse) + " | " +
+             fmt("%.4f", e.frac_over_1_255) + " |\n";
+    } else {
+      out += r.method == "exact" ? " | (reference) | | | | |\n" : " | - | - | - | - | - |\n";
+    }
+  }
+  return out;
+}
+
+std::string table_column_key() {
+  return "- **time**: the method's own time for every light of the frame, in milliseconds (the "
+         "shared BVH and G-buffer excluded); wall-clock, so it varies with the machine's load.\n"
+         "- **speed vs raytrace**: `raytrace` time / method time, both from this run "
+         "(> 1 = faster than Embree).\n"
+         "- Errors are against `exact`, on the visible fraction V of each light (0 = umbra, "
+         "1 = lit), over the surface pixels of every light:\n"
+         "  **mean abs (shadowed)** = mean |V − V_exact| over the pixels `exact` puts in umbra or "
+         "penumbra [Atty 2006 §4.2.1]; **mean abs** = over every surface pixel; **max abs** = "
+         "worst pixel; **rmse** = root mean square; **> 1/255** = fraction of pixels whose error "
+         "shows in an 8-bit image.\n";
+}
+
+std::string format_summary(const std::vector<TableRow>& rows, const Frame& frame,
+                           const std::string& shading) {
+  return summary_header(frame, shading) + "\n" + format_table(rows) + "\n" + table_column_key();
+}
+
+nlohmann::json table_json(const std::vector<TableRow>& rows, const Frame& frame) {
+  const TableRow* rt = find_row(rows, "raytrace");
+  nlohmann::json methods = nlohmann::json::array();
+  for (const TableRow& r : rows) {
+    nlohmann::json j = {{"method", r.method}};
+    if (!r.failure.empty()) {
+      j["failure"] = r.failure;
+    } else {
+      j["time_ms"] = r.ms;
+      if (rt && r.ms > 0.0) j["speed_vs_raytrace"] = rt->ms / r.ms;
+      if (r.vs_exact) j["error_vs_exact"] = to_json(*r.vs_exact);
+    }
+    methods.push_back(j);
+  }
+  const LightSampleSpec& spec = frame.samples().spec();
+  return {{"scene", frame.scene().name},
+          {"width", frame.gbuffer().width},
+          {"height", frame.gbuffer().height},
+          {"samples", frame.samples().count()},
+          {"pattern", std::string(to_string(spec.pattern))},
+          {"methods", methods}};
+}
+
+}  // namespace penumbra

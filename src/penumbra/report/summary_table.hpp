@@ -1,0 +1,39 @@
+// The comparison table of one frame (method, time, speed against `raytrace` of the same run,
+// error against `exact`), as Markdown with a header and a column key, and as JSON. Printed by
+// `penumbra render` with several methods (summary.md) and by `penumbra report` (results.md).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "penumbra/metrics/error_metrics.hpp"
+#include "penumbra/pipeline/frame.hpp"
+
+namespace penumbra {
+
+struct TableRow {
+  std::string method;
+  double ms = 0.0;
+  std::optional<ErrorStats> vs_exact;  // absent for `exact` itself or when exact was not run
+  std::string failure;                 // the method's error message when it could not run
+};
+
+/// What the table is about, one line: scene, size, light samples and pattern, shading.
+std::string summary_header(const Frame& frame, const std::string& shading);
+
+/// A Markdown table: method, time, speed relative to `raytrace` of the same run, error vs exact.
+std::string format_table(const std::vector<TableRow>& rows);
+
+/// What each column of format_table means (Markdown list).
+std::string table_column_key();
+
+/// Header, table and column key: the whole summary.md.
+std::string format_summary(const std::vector<TableRow>& rows, const Frame& frame,
+                           const std::string& shading);
+
+/// The table as JSON; rows hold time_ms, speed_vs_raytrace and error_vs_exact.
+nlohmann::json table_json(const std::vector<TableRow>& rows, const Frame& frame);
+
+}  // namespace penumbra

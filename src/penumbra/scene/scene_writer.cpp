@@ -1,0 +1,193 @@
+#include "penumbra/scene/scene_writer.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/io/image_io.hpp"
+#include "penumbra/scene/mesh_loader.hpp"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+json vec3(const Vec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+
+/// Row-major 16 numbers (the scene format's `matrix`).
+json matrix(const Mat4& m) {
+  json out = json::array();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out.push_back(m[c][r]);
+  return out;
+}
+
+/// Is the mesh still what its source file and transform give (bit for bit)?
+bool matches_source(const Mesh& mesh) {
+  if (mesh.source_file.empty() || !fs::exists(mesh.source_file)) return false;
+  try {
+    Mesh again = load_mesh_file(mesh.source_file);
+    transform_mesh(again, mesh.source_transform);
+    if (again.positions.size() != mesh.positions.size() ||
+        again.triangles.size() != mesh.triangles.size() ||
+        again.normals.size() != mesh.normals.size() || again.uvs.size() != mesh.uvs.size())
+      return false;
+    return std::memcmp(again.positions.data(), mesh.positions.data(),
+                       mesh.positions.size() * sizeof(Vec3)) == 0 &&
+           std::memcmp(again.triangles.data(), mesh.triangles.data(),
+                       mesh.triangles.size() * sizeof(Triangle)) == 0;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+template <typename T>
+void put(std::ofstream& f, const T& v) {
+  f.write(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+/// Binary little-endian PLY: assimp reads its floats back bit for bit (a text format would go
+/// through assimp's approximate number parser).
+void write_ply(const fs::path& path, const Mesh& m) {
+  std::ofstream f(path, std::ios::binary);
+  const bool normals = m.normals.size() == m.positions.size();
+  const bool uvs = m.uvs.size() == m.positions.size();
+  f << "ply\nformat binary_little_endian 1.0\ncomment written by penumbra scene\n"
+    << "element vertex " << m.positions.size() << "\nproperty float x\nproperty float y\n"
+    << "property float z\n";
+  if (normals) f << "property float nx\nproperty float ny\nproperty float nz\n";
+  if (uvs) f << "property float s\nproperty float t\n";
+  f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n"
+    << "end_header\n";
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    put(f, m.positions[i].x), put(f, m.positions[i].y), put(f, m.positions[i].z);
+    if (normals) put(f, m.normals[i].x), put(f, m.normals[i].y), put(f, m.normals[i].z);
+    if (uvs) put(f, m.uvs[i].x), put(f, m.uvs[i].y);
+  }
+  for (const Triangle& t : m.triangles) {
+    put(f, static_cast<uint8_t>(3));
+    for (uint32_t v : t.v) put(f, v);
+  }
+  if (!f) throw Error("cannot write " + path.string());
+}
+
+/// A texture as an 8-bit PNG: alpha masks as grey (the loader reads the first channel / 255),
+/// emission as sRGB (the loader decodes sRGB), so textures read from 8-bit files come back exact.
+void write_texture(const fs::path& path, const Texture& t, bool emission) {
+  std::vector<uint8_t> rgb(static_cast<size_t>(t.width) * t.height * 3);
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      // Texture row 0 is v = 0, the bottom of the image: PNG rows go top to bottom.
+      const size_t o = (static_cast<size_t>(t.height - 1 - y) * t.width + x) * 3;
+      for (int c = 0; c < 3; ++c) {
+        const float v = t.channel(x, y, t.channels >= 3 ? c : 0);
+        rgb[o + c] = emission ? linear_to_srgb8(v)
+                              : static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
+      }
+    }
+  write_png_rgb8(path, t.width, t.height, rgb);
+}
+
+std::string file_safe(const std::string& name) {
+  std::string out;
+  for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' ? c : '_';
+  return out.empty() ? "mesh" : out;
+}
+
+}  // namespace
+
+void write_scene_file(const Scene& scene, const fs::path& json_path) {
+  const fs::path base = json_path.parent_path().empty() ? fs::path(".") : json_path.parent_path();
+  const std::string assets = json_path.stem().string() + "_meshes";
+  std::error_code ec;
+  fs::create_directories(base, ec);
+  if (ec) throw Error("cannot create " + base.string() + ": " + ec.message());
+  const auto asset_dir = [&] {
+    fs::create_directories(base / assets, ec);
+    if (ec) throw Error("cannot create " + (base / assets).string() + ": " + ec.message());
+    return base / assets;
+  };
+
+  json j;
+  const Camera& c = scene.camera;
+  j["camera"] = {{"position", vec3(c.position)}, {"target", vec3(c.target)}, {"up", vec3(c.up)},
+                 {"fov_deg", c.vfov_deg},        {"width", c.width},         {"height", c.height}};
+  j["ambient"] = vec3(scene.ambient);
+
+  std::vector<std::string> texture_files(scene.textures.size());
+  const auto texture_file = [&](int index, bool emission) {
+    if (texture_files[index].empty()) {
+      const std::string name =
+          std::to_string(index) + "_" + file_safe(scene.textures[index].name) + ".png";
+      write_texture(asset_dir() / name, scene.textures[index], emission);
+      texture_files[index] = assets + "/" + name;
+    }
+    return texture_files[index];
+  };
+
+  std::vector<std::string> material_names;
+  std::set<std::string> used;
+  j["materials"] = json::array();
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    std::string name = m.name.empty() ? "material" : m.name;
+    for (int k = 2; used.count(name); ++k) name = m.name + "_" + std::to_string(k);
+    used.insert(name);
+    material_names.push_back(name);
+    json jm = {{"name", name}, {"albedo", vec3(m.albedo)}};
+    if (m.alpha_texture >= 0) jm["alpha_texture"] = texture_file(m.alpha_texture, false);
+    if (m.transmittance > 0.0f) jm["transmittance"] = m.transmittance;
+    j["materials"].push_back(jm);
+  }
+
+  j["meshes"] = json::array();
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const Mesh& m = scene.meshes[i];
+    json jm = {{"name", m.name},
+               {"material", material_names.at(m.material)},
+               {"casts_shadows", m.casts_shadows},
+               {"receives_shadows", m.receives_shadows}};
+    if (matches_source(m)) {
+      jm["file"] = m.source_file;
+      if (m.source_transform != Mat4(1.0f))
+        jm["transform"] = {{"matrix", matrix(m.source_transform)}};
+    } else {
+      const std::string name = std::to_string(i) + "_" + file_safe(m.name) + ".ply";
+      write_ply(asset_dir() / name, m);
+      jm["file"] = assets + "/" + name;
+    }
+    j["meshes"].push_back(jm);
+  }
+
+  j["lights"] = json::array();
+  for (const Light& l : scene.lights) {
+    json jl = {{"type", std::string(to_string(l.shape))},
+               {"name", l.name},
+               {"center", vec3(l.center)},
+               {"radiance", vec3(l.radiance)}};
+    if (l.shape == LightShape::rect) {
+      jl["edge_u"] = vec3(l.edge_u);
+      jl["edge_v"] = vec3(l.edge_v);
+      jl["two_sided"] = l.two_sided;
+      if (l.emission_texture >= 0) jl["emission_texture"] = texture_file(l.emission_texture, true);
+    } else if (l.shape == LightShape::disk) {
+      jl["normal"] = vec3(l.normal);
+      jl["radius"] = l.radius;
+    } else if (l.shape == LightShape::sphere) {
+      jl["radius"] = l.radius;
+    }
+    j["lights"].push_back(jl);
+  }
+
+  std::ofstream f(json_path);
+  f << j.dump(2) << "\n";
+  if (!f) throw Error("cannot write " + json_path.string());
+}
+
+}  // namespace penumbra

@@ -1,0 +1,164 @@
+// The comparison report: every method × scene has its images, rows and numbers (the same numbers
+// as the pipeline computes directly), the common error scale, the penumbra window, the plots.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "penumbra/pipeline/frame.hpp"
+#include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/report/report.hpp"
+#include "penumbra/report/report_images.hpp"
+#include "penumbra/report/svg_plot.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+report::ReportSpec small_spec(const fs::path& out) {
+  report::ReportSpec spec;
+  spec.scenes = {"quad", "fence"};
+  for (const char* name : {"exact", "raytrace", "pcss"}) {
+    const MethodInfo& m = MethodRegistry::builtin().get(name);
+    spec.methods.push_back(&m);
+    spec.options.push_back(resolve_options(m, {}));
+  }
+  spec.size = std::make_pair(48, 40);
+  spec.samples.k = 4;
+  spec.sweeps = {"light_size"};
+  spec.command_line = "test";
+  spec.out_dir = out;
+  return spec;
+}
+
+TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
+  const fs::path out = fs::temp_directory_path() / "penumbra_test_report";
+  fs::remove_all(out);
+  const fs::path index = report::write_report(small_spec(out));
+  ASSERT_EQ(index, out / "index.html");
+  const std::string html = read_text(index);
+  const std::string md = read_text(out / "results.md");
+  const nlohmann::json j = nlohmann::json::parse(read_text(out / "report.json"));
+  ASSERT_EQ(j["scenes"].size(), 2u);
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));  // only the SVG ns
+  EXPECT_EQ(html.find("https://"), std::string::npos);
+
+  for (const auto& scene : j["scenes"]) {
+    const std::string name = scene["name"], folder = scene["folder"];
+    EXPECT_NE(md.find("### " + name), std::string::npos);
+    EXPECT_NE(html.find("id='scene-" + folder + "'"), std::string::npos);
+    ASSERT_EQ(scene["methods"].size(), 3u);
+    EXPECT_GE(scene["error_scale"].get<double>(), 1.0 / 255.0);
+    EXPECT_LE(scene["error_scale"].get<double>(), 1.0);
+    for (const auto& m : scene["methods"]) {
+      const std::string method = m["method"];
+      std::vector<std::string> images = {method, method + "_crop"};
+      if (method != "exact") {
+        images.insert(images.end(), {method + "_abs", method + "_signed", method + "_crop_abs"});
+        EXPECT_TRUE(m.contains("error_vs_exact")) << name << " " << method;
+        EXPECT_TRUE(m.contains("speed_vs_raytrace")) << name << " " << method;
+        EXPECT_NE(md.find("| " + method + " | "), std::string::npos) << name << " " << method;
+      }
+      for (const std::string& img : images) {
+        EXPECT_TRUE(fs::exists(out / folder / (img + ".png"))) << img;
+        EXPECT_NE(html.find("src='" + folder + "/" + img + ".png'"), std::string::npos) << img;
+      }
+      EXPECT_GT(m["times_ms"]["total"].get<double>(), 0.0);
+      EXPECT_TRUE(m.contains("frame"));
+    }
+  }
+  // The report's numbers are the pipeline's: raytrace on quad, recomputed directly.
+  Scene quad = make_builtin_scene("quad");
+  quad.camera.width = 48;
+  quad.camera.height = 40;
+  LightSampleSpec samples;
+  samples.k = 4;
+  const Frame frame(quad, samples);
+  const MethodInfo& exact = MethodRegistry::builtin().get("exact");
+  const MethodInfo& rt = MethodRegistry::builtin().get("raytrace");
+  const MethodResult e = frame.run(exact, resolve_options(exact, {}), false);
+  const MethodResult r = frame.run(rt, resolve_options(rt, {}), false);
+  const ErrorStats direct = compare_results(frame, e, r);
+  const auto& reported = j["scenes"][0]["methods"][1]["error_vs_exact"];
+  EXPECT_DOUBLE_EQ(reported["mean_abs_shadowed"].get<double>(), direct.mean_abs_shadowed);
+  EXPECT_DOUBLE_EQ(reported["max_abs"].get<double>(), direct.max_abs);
+  // 4×4 grid samples on the quad: the sampling error of 16 samples (measured 0.0415).
+  EXPECT_NEAR(direct.mean_abs_shadowed, 0.0415, 0.004);
+
+  ASSERT_EQ(j["sweeps"].size(), 1u);
+  const auto& sweep = j["sweeps"][0];
+  EXPECT_EQ(sweep["x"].size(), 4u);
+  for (const char* m : {"raytrace", "pcss"})
+    EXPECT_EQ(sweep["methods"][m]["mean_abs_shadowed"].size(), 4u) << m;
+  EXPECT_NE(html.find("Sweep: light_size"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(Report, CommonErrorScaleIsTheRoundedMedianOfThePerMethod99thPercentiles) {
+  const Image<float> mask(10, 10, 1.0f);
+  Image<float> a(10, 10, 0.03f), b(10, 10, -0.3f), c(10, 10, 0.9f);
+  EXPECT_DOUBLE_EQ(report::common_error_scale({&a, &b, &c}, mask), 0.5);  // median 0.3 -> 0.5
+  EXPECT_DOUBLE_EQ(report::common_error_scale({&a, &c}, mask), 0.05);     // lower median 0.03
+  const Image<float> zero(10, 10, 0.0f);
+  EXPECT_DOUBLE_EQ(report::common_error_scale({&zero}, mask), 1.0 / 255.0);
+  // Masked pixels do not count.
+  Image<float> masked_out(10, 10, 0.0f);
+  Image<float> big(10, 10, 0.0f);
+  big(3, 3) = 0.8f;
+  EXPECT_DOUBLE_EQ(report::common_error_scale({&big}, masked_out), 1.0 / 255.0);
+  EXPECT_DOUBLE_EQ(report::common_error_scale({&big}, mask), 1.0);
+}
+
+TEST(Report, PenumbraWindowFindsThePenumbra) {
+  Image<float> v(64, 64, 1.0f);
+  const Image<float> mask(64, 64, 1.0f);
+  for (int y = 40; y < 56; ++y)
+    for (int x = 8; x < 24; ++x) v(x, y) = 0.5f;
+  const report::CropRect r = report::penumbra_window(v, mask);
+  EXPECT_EQ(r.size, 16);
+  EXPECT_EQ(r.x, 8);
+  EXPECT_EQ(r.y, 40);
+  report::Rgb8Image pic(64, 64, {0, 0, 0});
+  pic(8, 40) = {255, 0, 0};
+  const report::Rgb8Image z = report::crop_zoom(pic, r, 3);
+  EXPECT_EQ(z.width(), 48);
+  EXPECT_EQ(z(2, 2)[0], 255);
+  EXPECT_EQ(z(3, 3)[0], 0);
+}
+
+TEST(Report, PlotsLabelTicksReadablyAndSkipWhatALogAxisCannotShow) {
+  EXPECT_EQ(plot::tick_label(150), "150");
+  EXPECT_EQ(plot::tick_label(0.0039), "0.0039");
+  EXPECT_EQ(plot::tick_label(0.5), "0.5");
+  EXPECT_EQ(plot::tick_label(1e-7), "1e-07");
+  plot::Chart c;
+  c.x = {"ms", plot::Scale::log10};
+  c.y = {"error", plot::Scale::log10};
+  const std::string svg =
+      plot::line_plot_svg(c, {{"a&b", {1, 10, 100}, {0.1, 0.0, 0.01}, false, true, {}, {}, ""}});
+  EXPECT_NE(svg.find("a&amp;b"), std::string::npos);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  EXPECT_EQ(svg.find("inf"), std::string::npos);
+  // Two usable points of three: two markers.
+  size_t circles = 0;
+  for (size_t p = svg.find("<circle"); p != std::string::npos; p = svg.find("<circle", p + 1))
+    ++circles;
+  EXPECT_EQ(circles, 2u);
+  const std::string bars = plot::stacked_bars_svg("t", "ms", {{"m", {{"a", 2.0}, {"b", 3.0}}}});
+  EXPECT_NE(bars.find(">5</text>"), std::string::npos);  // the total
+}
+
+}  // namespace
+}  // namespace penumbra
