@@ -29,7 +29,7 @@ constexpr double kQuadTextureC = 4.0;
 /// normalised emission density ρ_max (docs/methods/wedges.md "Textured lights").
 constexpr double kQuadTextureRgbC = 7.5;
 
-/// Where a wedge method is exact (one planar convex occluder, paper III §5.3), its error against
+/// Where a wedge method is exact (one planar convex occluder, [Assarsson 2003 III §5.3]), its error against
 /// `exact` is float rounding of V: measured ≤ 1.34e-7 (disk light on `quad`), 3e-8 on most.
 constexpr double kExactTol = 4e-7;
 

@@ -1,4 +1,4 @@
-// `gears` on Vulkan: the pipeline of [seed 004 §4.2] in compute shaders, on the frame's G-buffer
+// `gears` on Vulkan: the pipeline of [Wang 2014 §4.2] in compute shaders, on the frame's G-buffer
 // and light samples (uploaded once per light):
 //   host:  light space and the grid camera C (gears::make_light_space / make_grid_camera, the CPU
 //          method's own construction, so both use the same grid);

@@ -1,5 +1,5 @@
 // GPU building blocks of the GEARS pipeline: exclusive prefix sum and stable LSD radix sort of
-// (key, value) pairs [seed 004 §4.2: "the triangle-cell pairs are sorted by cell with a radix
+// (key, value) pairs [Wang 2014 §4.2: "the triangle-cell pairs are sorted by cell with a radix
 // sort"], recorded into a CommandList.
 #pragma once
 

@@ -65,7 +65,7 @@ Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_
         const Visibility& vis = *per_light[l];
         const Light& light = scene.lights[l];
         if (mode == ShadingMode::integrate && vis.masks && light.shape != LightShape::point) {
-          // Forest eq. 4.6: E = (A / N) Σ_s V_s L_s cosθ cosθ' / r².
+          // Forest 2008 eq. 4.6: E = (A / N) Σ_s V_s L_s cosθ cosθ' / r².
           const Vec3 p = g.shadow_origin(i);
           const LightFrame f = light_frame(light, p);
           frame.samples().pixel_samples(x, y, light_uv);

@@ -1,5 +1,5 @@
 #version 460
-// Depth-map pass [Forest thesis §2.2.2]: caster triangles (world positions pulled by
+// Depth-map pass [Forest 2008 §2.2.2]: caster triangles (world positions pulled by
 // gl_VertexIndex) through the light's square pinhole projection (raster/projection.hpp). Clip w is
 // the view depth; clip z = near gives the depth near/w ("reversed z": float keeps its relative
 // precision at every distance), tested GREATER; w ≥ near is the CPU's near-plane clip.

@@ -1,4 +1,4 @@
-// GEARS on the GPU, shared declarations: the grid camera C [seed 004 §3.1] (filled on the host
+// GEARS on the GPU, shared declarations: the grid camera C [Wang 2014 §3.1] (filled on the host
 // from gears::GridCamera) and its projection, exactly GridCamera::project_cells.
 
 layout(buffer_reference, scalar) buffer GridCamera {
@@ -27,7 +27,7 @@ vec2 project_cells(GridCamera cam, vec3 q) {
 
 /// Can a triangle whose nearest vertex is at depth zmin block a sample of cell c? Not when every
 /// sample of the cell is nearer than the triangle (and the triangle is beyond the light): a segment
-/// from a sample to the light stays nearer than both [seed 004 §3.1, the cell-depth cull].
+/// from a sample to the light stays nearer than both [Wang 2014 §3.1, the cell-depth cull].
 bool cell_may_be_blocked(Uints cell_max_z, uint c, float zmin, bool beyond_light) {
   const uint m = cell_max_z.v[c];
   return m != 0u && (!beyond_light || uintBitsToFloat(m - 1u) >= zmin);

@@ -1,5 +1,5 @@
 #version 460
-// GEARS step 3.2 [seed 004 §3.1]: each active pixel's sample → its grid cell (~0: the sample is on
+// GEARS step 3.2 [Wang 2014 §3.1]: each active pixel's sample → its grid cell (~0: the sample is on
 // the other side of the light plane, computed by the other pass), and each cell's deepest sample.
 #include "common.glsl"
 #include "gears.glsl"

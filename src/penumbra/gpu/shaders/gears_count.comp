@@ -1,5 +1,5 @@
 #version 460
-// GEARS step 3.3 [seed 004 §3.1, §4.2], count pass: the cells a triangle's shadow volume covers on
+// GEARS step 3.3 [Wang 2014 §3.1, §4.2], count pass: the cells a triangle's shadow volume covers on
 // the grid. The volume (the triangle extruded away from every light point to the deepest sample)
 // is the convex hull of the vertices and their extrusions from the light corners, because central
 // projection maps convex sets to convex sets; its projection through C is inside the 2D box of

@@ -1,5 +1,5 @@
 #version 460
-// GEARS step 4 [seed 004 §4.2]: per pixel, every triangle of its cell rasterized onto the k×k
+// GEARS step 4 [Wang 2014 §4.2]: per pixel, every triangle of its cell rasterized onto the k×k
 // light-sample bitmask by its edge planes, one 32-bit word per row (k ≤ 32). The arithmetic is the
 // CPU rasterizer's (shadows/gears/raster.cpp), operation for operation and without contraction
 // (`precise`), so both agree on every sample that is not within rounding of an edge.

@@ -110,7 +110,7 @@ DVec3 weighted_sector_minus_triangle(const LightEmission& emission, const DVec2&
 /// inside the light square: exact over the texels.
 DVec3 emission_in_box(const LightEmission& emission, const DVec2& lo, const DVec2& hi);
 
-/// The RGB coverage texture for a textured rectangular light (issue 4; Assarsson 2003 III §3.3
+/// The RGB coverage texture for a textured rectangular light (Assarsson 2003 III §3.3
 /// "also serves textured lights"): per endpoint pair on the same n × n grid as CoverageTexture, the
 /// unsigned |weighted_sector_minus_triangle| per channel, computed exactly by clipping the region
 /// against every texel. Unlike the uniform table, the unsigned value is discontinuous where the

@@ -52,7 +52,7 @@ bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& r, int& turn)
     turn = o > 0.0 ? 1 : -1;
     return true;
   }
-  // c on the line ab [Forest §4.4.3]: a half-plane if c lies inside the segment, else nothing.
+  // c on the line ab [Forest 2008 §4.4.3]: a half-plane if c lies inside the segment, else nothing.
   if (!(glm::dot(a - c, b - c) < 0.0)) return false;
   // The walk starts from c + εd: (c + εd, a, b) turns as cross(b − a, d).
   double side = cross2(b - a, DVec2(0.6180339887498949, 1.0));

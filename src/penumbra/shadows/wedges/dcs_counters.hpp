@@ -4,7 +4,7 @@
 // Covered samples. Seen from p, the walk in light uv from the centre c to a sample s crosses the
 // clipped projected edge a → b iff s lies in the sector from c spanned by a and b and beyond the
 // line ab: three half-planes, each an affine function of s (`CoveredRegion`). When c lies on the
-// segment itself (p in the plane of the edge and the light centre, Forest §4.4.3: "the light
+// segment itself (p in the plane of the edge and the light centre, Forest 2008 §4.4.3: "the light
 // center passes through the line"), the sector degenerates to the half-plane beyond the line; we
 // take the side the walk from c + εd reaches (a fixed direction d, a symbolic perturbation), so
 // the covered set is still a half-plane of samples and is never dropped the way an area of zero

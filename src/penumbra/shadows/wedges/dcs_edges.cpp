@@ -13,7 +13,7 @@ EdgeSet build_edges(const wedge_pass::CasterMeshes& casters,
     const Mesh& mesh = *casters.meshes[m];
     const MeshEdges& me = casters.edges[m];
     const std::vector<int8_t> centre = face_sides(mesh, me, light.center);
-    // Face planes in double, and whether each cuts (or touches) the light [Forest §4.1.4].
+    // Face planes in double, and whether each cuts (or touches) the light [Forest 2008 §4.1.4].
     std::vector<DVec3> normal(me.faces.size(), DVec3(0.0));
     std::vector<double> offset(me.faces.size(), 0.0);
     std::vector<uint8_t> straddles(me.faces.size(), 0);

@@ -23,7 +23,7 @@ double overlap_combine(double c, double cg) {
   return std::min(1.0, std::max(c, cg) + 0.5 * std::min(c, cg));
 }
 
-/// The RGB side of a textured rectangular light (issue 4): its emission, the RGB table (coverage
+/// The RGB side of a textured rectangular light: its emission, the RGB table (coverage
 /// = texture) and where the per-channel visible fractions go.
 struct RgbLight {
   const LightEmission* emission = nullptr;
@@ -198,7 +198,7 @@ Texture sub_texture(const Texture& t, int n, int i, int j) {
   return sub;
 }
 
-/// A textured rectangular light (issue 4): RGB visibility from the emission-weighted coverage,
+/// A textured rectangular light: RGB visibility from the emission-weighted coverage,
 /// exact per pixel (coverage = analytic) or from the RGB coverage table (coverage = texture), per
 /// sub-light of the split, each with its own part of the texture. The sub-lights' per-channel
 /// visible fractions are averaged with their emitted power as weights.
