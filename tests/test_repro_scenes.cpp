@@ -106,11 +106,13 @@ TEST(CurvedSheets, FineBowlErrsLikeTheCoarseOne) {
     mean[k][1] = b.mean_abs_shadowed;
     ++k;
   }
-  // Measured at 64²: coarse 0.0132 / 0.0070, fine 0.0157 / 0.0076 (wedges / wedge_blend).
-  EXPECT_LT(mean[0][0], 0.0150);
-  EXPECT_LT(mean[1][0], 0.0180);
-  EXPECT_LT(mean[0][1], 0.0080);
-  EXPECT_LT(mean[1][1], 0.0088);
+  // Measured at 64²: coarse 0.0160 / 0.0091, fine 0.0209 / 0.0115 (wedges / wedge_blend; the
+  // receiver-relative offset puts shading points closer to their surface than the old
+  // scene-diagonal offset did, which raised these from 0.0132 / 0.0070 and 0.0157 / 0.0076).
+  EXPECT_LT(mean[0][0], 0.0176);
+  EXPECT_LT(mean[1][0], 0.0230);
+  EXPECT_LT(mean[0][1], 0.0100);
+  EXPECT_LT(mean[1][1], 0.0127);
 }
 
 /// A half-cylinder tunnel: a curved open sheet (its boundary, two arcs and two lines, spans as much
@@ -127,9 +129,9 @@ TEST(CurvedSheets, HalfCylinderIsASheet) {
   print("half cylinder, wedges", w);
   print("half cylinder, wedge_blend", b);
   EXPECT_GT(w.shadowed, 300);
-  EXPECT_LT(w.mean_abs_shadowed, 0.056);   // measured 0.0487
-  EXPECT_LT(b.mean_abs_shadowed, 0.0090);  // measured 0.0076
-  EXPECT_LT(w.max_brighter, 0.11);         // measured 0.091 (the single silhouette)
+  EXPECT_LT(w.mean_abs_shadowed, 0.056);   // measured 0.0502
+  EXPECT_LT(b.mean_abs_shadowed, 0.0134);  // measured 0.0121
+  EXPECT_LT(w.max_brighter, 0.28);         // measured 0.253 (the single silhouette)
 }
 
 /// A scanned model with a few small holes stays a solid (docs/methods/wedges.md step 2).
@@ -209,7 +211,7 @@ TEST(Orientation, OneFlippedTriangleIsTurnedBack) {
       diff = std::max(diff, std::abs(static_cast<double>(a[i]) - b[i]));
     print((std::string("flipped sphere, ") + method).c_str(), e);
     EXPECT_EQ(diff, 0.0) << method;
-    EXPECT_LT(e.mean_abs_shadowed, 0.0100) << method;  // measured 0.0089 at 64²
+    EXPECT_LT(e.mean_abs_shadowed, 0.0174) << method;  // measured 0.0158 at 64²
   }
 }
 

@@ -465,11 +465,11 @@ TEST(Wedges, MeasuredErrorOnSpheres) {
   EXPECT_LT(dov.mean_abs_shadowed, d1.mean_abs_shadowed);
   // The measured figures (96², one sample): a plain sum in place of eq. 1 gives plain wedges'
   // 0.0983 for `overlap`, and blending without eq. 3.1's overlapped-area estimate 0.045.
-  expect_measured(d1.mean_abs_shadowed, 0.0983, "wedges");
-  expect_measured(dov.mean_abs_shadowed, 0.0502, "overlap");
-  expect_measured(d2.mean_abs_shadowed, 0.0435, "split 2");
-  expect_measured(d4.mean_abs_shadowed, 0.0136, "split 4");
-  expect_measured(db.mean_abs_shadowed, 0.0184, "wedge_blend");
+  expect_measured(d1.mean_abs_shadowed, 0.0992, "wedges");
+  expect_measured(dov.mean_abs_shadowed, 0.0532, "overlap");
+  expect_measured(d2.mean_abs_shadowed, 0.0449, "split 2");
+  expect_measured(d4.mean_abs_shadowed, 0.0142, "split 4");
+  expect_measured(db.mean_abs_shadowed, 0.0222, "wedge_blend");
 }
 
 TEST(Wedges, MeasuredErrorOnBunny) {
@@ -484,10 +484,10 @@ TEST(Wedges, MeasuredErrorOnBunny) {
   print("bunny, overlap", dov);
   print("bunny, wedge_blend", db);
   EXPECT_GT(d1.shadowed, 100);
-  expect_measured(d1.mean_abs_shadowed, 0.0220, "wedges");
-  expect_measured(d2.mean_abs_shadowed, 0.00844, "split 2");
-  expect_measured(dov.mean_abs_shadowed, 0.0223, "overlap");
-  expect_measured(db.mean_abs_shadowed, 0.0158, "wedge_blend");
+  expect_measured(d1.mean_abs_shadowed, 0.0474, "wedges");
+  expect_measured(d2.mean_abs_shadowed, 0.0212, "split 2");
+  expect_measured(dov.mean_abs_shadowed, 0.0444, "overlap");
+  expect_measured(db.mean_abs_shadowed, 0.0387, "wedge_blend");
 }
 
 /// Paper III §3.3's 4D coverage texture: the derived per-pair bound (coverage_texture_bound,
