@@ -96,7 +96,9 @@ inline MaskAgreement compare_masks(const TestFrame& t, const std::string& method
   return compare_masks(t, t.run(reference, {}, true), t.run(method, options, true), classify);
 }
 
-inline void expect_equal_masks(const MaskAgreement& a, int min_blocked = 100) {
+/// `max_unexplained` > 0 only where a known, documented defect is pinned (the test says which).
+inline void expect_equal_masks(const MaskAgreement& a, int min_blocked = 100,
+                               uint64_t max_unexplained = 0) {
   std::printf(
       "masks: %llu pairs, %d blocked, %llu differ (%.5f%%), %llu unexplained, mean |dV| %.2e\n",
       static_cast<unsigned long long>(a.pairs), a.blocked,
@@ -104,7 +106,8 @@ inline void expect_equal_masks(const MaskAgreement& a, int min_blocked = 100) {
       static_cast<unsigned long long>(a.unexplained), a.mean_abs_dv);
   EXPECT_GT(a.blocked, min_blocked);
   EXPECT_LE(static_cast<double>(a.differ), 1e-3 * a.pairs) << a.differ << " of " << a.pairs;
-  EXPECT_EQ(a.unexplained, 0u) << "mismatches not on a triangle edge within float tolerance";
+  EXPECT_LE(a.unexplained, max_unexplained)
+      << "mismatches not on a triangle edge within float tolerance";
   EXPECT_LE(a.mean_abs_dv, 1e-3);
 }
 
