@@ -29,8 +29,8 @@ constexpr double kQuadTextureC = 4.0;
 /// normalised emission density ρ_max (docs/methods/wedges.md "Textured lights").
 constexpr double kQuadTextureRgbC = 7.5;
 
-/// Where a wedge method is exact (one planar convex occluder, [Assarsson 2003 III §5.3]), its error against
-/// `exact` is float rounding of V: measured ≤ 1.34e-7 (disk light on `quad`), 3e-8 on most.
+/// Where a wedge method is exact (one planar convex occluder, [Assarsson 2003 III §5.3]), its error
+/// against `exact` is float rounding of V: measured ≤ 1.34e-7 (disk light on `quad`), 3e-8 on most.
 constexpr double kExactTol = 4e-7;
 
 /// A measured mean error (docs/methods/wedges.md) held to within 5 % of itself: a change of the
@@ -680,8 +680,9 @@ TEST(Wedges, TexturedLightRgbOnQuad) {
   // One group: the per-channel overlap approximation changes nothing.
   const RgbDiff dov = compare_rgb(t, {{"overlap", "true"}});
   for (int c = 0; c < 3; ++c) EXPECT_LE(dov.max_rgb[c], kExactTol) << c;
-  // Light splitting [Assarsson 2003 IV §5.2] with the texture cut between the sub-lights: still exact for
-  // one planar convex occluder, also when the cuts fall inside texels (2 texels, 3 sub-lights).
+  // Light splitting [Assarsson 2003 IV §5.2] with the texture cut between the sub-lights: still
+  // exact for one planar convex occluder, also when the cuts fall inside texels (2 texels, 3
+  // sub-lights).
   for (const char* split : {"2", "3"}) {
     const RgbDiff ds = compare_rgb(t, {{"split", split}});
     std::printf("    textured quad, split %s: max rgb %.2e %.2e %.2e  lit %.2e  lum %.2e\n", split,

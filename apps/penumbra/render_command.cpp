@@ -1,9 +1,8 @@
 // `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
 #include <tbb/parallel_invoke.h>
-
-#include <chrono>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -16,9 +15,9 @@
 #include "commands.hpp"
 #include "method_args.hpp"
 #include "penumbra/core/error.hpp"
-#include "penumbra/core/stats.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/core/progress.hpp"
+#include "penumbra/core/stats.hpp"
 #include "penumbra/metrics/error_map.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/report/summary_table.hpp"

@@ -52,8 +52,8 @@ struct MaskAgreement {
 
 /// Compares the masks of two results `a` (the reference) and `b` on every active pixel of light 0;
 /// classifies each mismatch.
-inline MaskAgreement compare_masks(const TestFrame& t, const MethodResult& a,
-                                   const MethodResult& b, bool classify = true) {
+inline MaskAgreement compare_masks(const TestFrame& t, const MethodResult& a, const MethodResult& b,
+                                   bool classify = true) {
   const SampleMasks& ma = *a.per_light[0].masks;
   const SampleMasks& mb = *b.per_light[0].masks;
   const GBuffer& g = t.frame->gbuffer();

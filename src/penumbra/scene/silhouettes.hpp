@@ -48,13 +48,13 @@ std::vector<SilhouetteEdge> point_silhouette(const Mesh& mesh, const MeshEdges& 
 /// whole rectangle, disk or sphere; a point light's centre).
 void light_range(const Light& light, const DVec3& n, double d, double& lo, double& hi);
 
-/// Possible silhouette edges w.r.t. the whole light (point, rect, disk, sphere) [Forest 2008 §4.1.4]:
-/// e is kept iff m(e) ≠ 0 for some point of the light. m can change over the light only where an
-/// adjacent face's plane cuts the light, so e is kept iff m(e) ≠ 0 at the light centre or some
-/// adjacent face plane has light points on both sides (closed or touching). For a manifold edge
-/// this is exactly "some light point sees one face from the front and the other from the back",
-/// up to the degenerate case of a light containing the edge's line. Returns edge indices, sorted.
-/// Always a superset of point_silhouette(light.center).
+/// Possible silhouette edges w.r.t. the whole light (point, rect, disk, sphere) [Forest 2008
+/// §4.1.4]: e is kept iff m(e) ≠ 0 for some point of the light. m can change over the light only
+/// where an adjacent face's plane cuts the light, so e is kept iff m(e) ≠ 0 at the light centre or
+/// some adjacent face plane has light points on both sides (closed or touching). For a manifold
+/// edge this is exactly "some light point sees one face from the front and the other from the
+/// back", up to the degenerate case of a light containing the edge's line. Returns edge indices,
+/// sorted. Always a superset of point_silhouette(light.center).
 std::vector<uint32_t> light_silhouette_edges(const Mesh& mesh, const MeshEdges& edges,
                                              const Light& light);
 

@@ -16,13 +16,13 @@
 // Which edges, and with which weight, without a per-pixel sweep of the whole mesh. If the
 // projection of e from p meets the light at q, then p and q lie on opposite sides of every plane
 // through e (the segment p → q passes through e), so m_p(e) = −m_q(e): only edges that are a
-// silhouette from SOME light point matter — the silhouette w.r.t. the whole light [Forest 2008 §4.1.4,
-// Laine 2005], kept here when m ≠ 0 at the centre or an adjacent face's plane cuts the light
-// (light_silhouette_edges). For an edge none of whose face planes cuts the light, m_q is the same
-// for every light point, so its weight is the constant m_c (from the centre); only the edges whose
-// face planes cut the light ("straddling") need the per-receiver sum above, which is what makes
-// `light` mode exact. `centre` mode is the standard detection from the light centre, weight m_c
-// for every edge: it misses edges that are silhouettes only from part of the light, the
+// silhouette from SOME light point matter — the silhouette w.r.t. the whole light [Forest 2008
+// §4.1.4, Laine 2005], kept here when m ≠ 0 at the centre or an adjacent face's plane cuts the
+// light (light_silhouette_edges). For an edge none of whose face planes cuts the light, m_q is the
+// same for every light point, so its weight is the constant m_c (from the centre); only the edges
+// whose face planes cut the light ("straddling") need the per-receiver sum above, which is what
+// makes `light` mode exact. `centre` mode is the standard detection from the light centre, weight
+// m_c for every edge: it misses edges that are silhouettes only from part of the light, the
 // under-estimated penumbra of Forest fig. 4.3a.
 #pragma once
 
