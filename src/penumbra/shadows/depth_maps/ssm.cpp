@@ -23,6 +23,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/raster/projection.hpp"
@@ -39,6 +40,7 @@ using ssm::Window;
 
 constexpr double kMaxTan = 11.430052302761343;  // tan 85°: the widest window
 constexpr int kBand = 8;
+constexpr int kMinResolution = 4;  // the smallest occluder map the budget halves down to
 
 void assign_roles(const Scene& s, std::vector<bool>& occ, std::vector<bool>& rec) {
   const size_t n = s.meshes.size();
@@ -89,7 +91,8 @@ struct TanBox {
 
 struct Patch {
   double px, py, hx, hy, zo;
-  int i0, i1, j0, j1;  // soft-shadow-map texel range of the penumbra extent (inclusive)
+  int i0, i1, j0, j1;    // soft-shadow-map texel range of the penumbra extent (inclusive)
+  int order_i, order_j;  // first occluder-map texel: the blending order
 };
 
 /// Receiver-map depths within this fraction of a point's own depth are the same receiver.
@@ -102,7 +105,9 @@ class Ssm final : public ShadowMethod {
         ssm_res_(o.get_int("ssm_resolution")),
         two_pass_(o.get_bool("two_pass")),
         back_furthest_(o.get_choice("back_depth") == "furthest"),
-        fp16_(o.get_bool("fp16")) {}
+        fp16_(o.get_bool("fp16")),
+        merge_(o.get_bool("merge")),
+        budget_(1e6 * o.get_int("budget")) {}
 
   Visibility compute(const ShadowContext& ctx) override {
     const GBuffer& g = ctx.gbuffer;
@@ -114,16 +119,21 @@ class Ssm final : public ShadowMethod {
     // 1. Roles.
     std::vector<bool> occ, rec;
     assign_roles(scene, occ, rec);
-    const double diag = std::max(1e-3f, scene.bounds().diagonal());
-    const double near = 1e-6 * diag;
 
-    // 2. Light frame, receiver box, occluder window.
+    // 2. Light frame, receiver box, occluder window. Lengths are relative to what the camera sees
+    // from this light (the receivers' box and its distance), not to the whole scene: one mesh far
+    // away must not make the near plane or a point light's square swallow the visible shadows.
     Bounds3 active_box;
     for (size_t i = 0; i < g.pixel_count(); ++i)
       if (ctx.receivers[i] == kActive) active_box.extend(g.shadow_origin(i));
     const DVec3 toward =
         active_box.empty() ? DVec3(ctx.light.center) - DVec3(0, 1, 0) : DVec3(active_box.center());
-    const LightRect light = ssm::light_rect(ctx.light, toward, 1e-6 * diag);
+    const double local_scale = active_box.empty()
+                                   ? std::max(1e-3f, scene.bounds().diagonal())
+                                   : std::max({glm::length(toward - DVec3(ctx.light.center)),
+                                               static_cast<double>(active_box.diagonal()), 1e-30});
+    const double near = 1e-6 * local_scale;
+    const LightRect light = ssm::light_rect(ctx.light, toward, near);
     vis.counters["light_lu"] = light.lu;
     vis.counters["light_lv"] = light.lv;
 
@@ -142,78 +152,64 @@ class Ssm final : public ShadowMethod {
       zr_max = std::max(zr_max, l.z);
     }
     vis.counters["occluder_pixels"] = occluder_pixels;
+    // Only occluders within reach of a receiver matter: a point at depth z_O shadows tangents
+    // within L/2·(1/z_O − 1/z_R) < L/(2·z_O) of its own (§3.3), and on a triangle z_O is at least
+    // its nearest vertex's (depth is linear). The occluder window is the union of each triangle's
+    // tangent box cut to that reach, so far-away geometry does not spread its texels over empty
+    // space.
     TanBox obox;
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-      if (occ[m])
-        for (const Vec3& p : scene.meshes[m].positions) obox.add_point(light.local(DVec3(p)), near);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+      if (!occ[m]) continue;
+      const Mesh& mesh = scene.meshes[m];
+      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        TanBox tri;
+        double z_min = kInfinity;
+        for (int k = 0; k < 3; ++k) {
+          const DVec3 l = light.local(DVec3(mesh.vertex(t, k)));
+          tri.add_point(l, near);
+          z_min = std::min(z_min, l.z);
+        }
+        if (z_min > near) {
+          const double mx = 0.5 * light.lu / z_min, my = 0.5 * light.lv / z_min;
+          tri.x0 = std::max(tri.x0, rbox.x0 - mx);
+          tri.x1 = std::min(tri.x1, rbox.x1 + mx);
+          tri.y0 = std::max(tri.y0, rbox.y0 - my);
+          tri.y1 = std::min(tri.y1, rbox.y1 + my);
+        }
+        if (tri.empty()) continue;
+        obox.add(tri.x0, tri.y0);
+        obox.add(tri.x1, tri.y1);
+      }
+    }
     vis.times.add("fit", elapsed_ms(start));
     if (rbox.empty() || obox.empty()) return vis;
 
-    // Occluder window: a 1e-6 relative margin, then widened to the light's aspect ratio [Atty 2006
-    // §3.2].
-    Window ow;
-    {
-      const double cx = 0.5 * (obox.x0 + obox.x1), cy = 0.5 * (obox.y0 + obox.y1);
-      double wx = (obox.x1 - obox.x0) * (1.0 + 1e-6) + 1e-9;
-      double wy = (obox.y1 - obox.y0) * (1.0 + 1e-6) + 1e-9;
-      const double aspect = light.lu / light.lv;
-      if (wx < wy * aspect)
-        wx = wy * aspect;
-      else
-        wy = wx / aspect;
-      ow = {cx - 0.5 * wx, cx + 0.5 * wx, cy - 0.5 * wy, cy + 0.5 * wy, res_, res_};
+    // 3. Occluder maps, receiver map and micro-patches at the occluder-map resolution; halved
+    // while the blending work (occluder texels × extent texels, §5.1) exceeds the budget — the
+    // paper's own remedy: "if we have a large penumbra zone, we can use a lower resolution".
+    Maps maps;
+    int res = res_, halvings = 0;
+    for (;;) {
+      maps = build_maps(scene, occ, rec, light, obox, rbox, zr_max, near, res, vis.times);
+      if (maps.work <= budget_ || res <= kMinResolution) break;
+      res = std::max(kMinResolution, res / 2);
+      ++halvings;
     }
-
-    // 3. Occluder maps.
-    start = std::chrono::steady_clock::now();
-    std::vector<Image<float>> omaps;
-    omaps.push_back(
-        ssm::render_light_map(scene, occ, light, ow, ssm::MapFaces::front_nearest, near));
-    if (two_pass_)
-      omaps.push_back(ssm::render_light_map(
-          scene, occ, light, ow,
-          back_furthest_ ? ssm::MapFaces::back_furthest : ssm::MapFaces::back_nearest, near));
-    double zo_min = kInfinity, occ_texels = 0;
-    for (const Image<float>& m : omaps)
-      for (float d : m.pixels())
-        if (d < kInfinity) {
-          zo_min = std::min(zo_min, static_cast<double>(d));
-          ++occ_texels;
-        }
-    vis.times.add("occluder_map", elapsed_ms(start));
-    vis.counters["occluder_texels"] = occ_texels;
-    if (!(zo_min < zr_max)) return vis;
-
-    // Soft-shadow-map window: receivers ∩ the occluder window grown by the widest penumbra
-    // half-extent (§3.3 at the nearest occluder depth and the farthest receiver depth).
-    Window sw;
-    {
-      const double mx = 0.5 * ow.dx() + 0.5 * light.lu * (1.0 / zo_min - 1.0 / zr_max);
-      const double my = 0.5 * ow.dy() + 0.5 * light.lv * (1.0 / zo_min - 1.0 / zr_max);
-      sw.tx0 = std::max(rbox.x0, ow.tx0 - mx);
-      sw.tx1 = std::min(rbox.x1, ow.tx1 + mx);
-      sw.ty0 = std::max(rbox.y0, ow.ty0 - my);
-      sw.ty1 = std::min(rbox.y1, ow.ty1 + my);
-      // A half-texel margin so that bilinear lookups at the receivers' edge stay inside.
-      const double ex = (sw.tx1 - sw.tx0) / ssm_res_, ey = (sw.ty1 - sw.ty0) / ssm_res_;
-      sw.tx0 -= ex;
-      sw.tx1 += ex;
-      sw.ty0 -= ey;
-      sw.ty1 += ey;
-      sw.w = sw.h = ssm_res_;
-    }
-    if (sw.empty()) return vis;
-    start = std::chrono::steady_clock::now();
-    const Image<float> rmap =
-        ssm::render_light_map(scene, rec, light, sw, ssm::MapFaces::all_nearest, near);
-    vis.times.add("receiver_map", elapsed_ms(start));
+    vis.counters["occluder_texels"] = maps.occluder_texels;
+    vis.counters["occluder_resolution"] = res;
+    vis.counters["budget_halvings"] = halvings;
+    vis.counters["patches"] = static_cast<double>(maps.patches[0].size() + maps.patches[1].size());
+    vis.counters["update_bound"] = maps.work;
+    if (maps.patches[0].empty() && maps.patches[1].empty()) return vis;
+    const Window& sw = maps.sw;
+    const Image<float>& rmap = maps.rmap;
 
     // 4. One soft shadow map per occluder map.
     std::vector<Image<float>> ssms;
     double touched_total = 0;
-    for (size_t pass = 0; pass < omaps.size(); ++pass) {
+    for (size_t pass = 0; pass < (two_pass_ ? 2u : 1u); ++pass) {
       start = std::chrono::steady_clock::now();
-      const std::vector<Patch> patches = make_patches(omaps[pass], ow, sw, light, zr_max);
+      const std::vector<Patch>& patches = maps.patches[pass];
       std::atomic<long long> touched{0};
       Image<float> acc(sw.w, sw.h, 0.0f);
       parallel_bands(sw.h, kBand, [&](int first, int last) {
@@ -302,51 +298,167 @@ class Ssm final : public ShadowMethod {
   }
 
  private:
+  struct Maps {
+    Window sw;
+    Image<float> rmap;
+    std::vector<Patch> patches[2];  // front, back (two-pass)
+    double occluder_texels = 0, work = 0;
+  };
+
+  /// Stage 3 at occluder-map resolution `res`: the occluder window (a 1e-6 relative margin, then
+  /// widened to the light's aspect ratio [Atty 2006 §3.2]), the occluder maps, the
+  /// soft-shadow-map window, the receiver map and the micro-patches.
+  Maps build_maps(const Scene& scene, const std::vector<bool>& occ, const std::vector<bool>& rec,
+                  const LightRect& light, const TanBox& obox, const TanBox& rbox, double zr_max,
+                  double near, int res, StageTimes& times) const {
+    Maps out;
+    auto start = std::chrono::steady_clock::now();
+    Window ow;
+    {
+      const double cx = 0.5 * (obox.x0 + obox.x1), cy = 0.5 * (obox.y0 + obox.y1);
+      double wx = (obox.x1 - obox.x0) * (1.0 + 1e-6) + 1e-9;
+      double wy = (obox.y1 - obox.y0) * (1.0 + 1e-6) + 1e-9;
+      const double aspect = light.lu / light.lv;
+      if (wx < wy * aspect)
+        wx = wy * aspect;
+      else
+        wy = wx / aspect;
+      ow = {cx - 0.5 * wx, cx + 0.5 * wx, cy - 0.5 * wy, cy + 0.5 * wy, res, res};
+    }
+    std::vector<Image<float>> omaps;
+    omaps.push_back(
+        ssm::render_light_map(scene, occ, light, ow, ssm::MapFaces::front_nearest, near));
+    if (two_pass_)
+      omaps.push_back(ssm::render_light_map(
+          scene, occ, light, ow,
+          back_furthest_ ? ssm::MapFaces::back_furthest : ssm::MapFaces::back_nearest, near));
+    double zo_min = kInfinity;
+    for (const Image<float>& m : omaps)
+      for (float d : m.pixels())
+        if (d < kInfinity) {
+          zo_min = std::min(zo_min, static_cast<double>(d));
+          ++out.occluder_texels;
+        }
+    times.add("occluder_map", elapsed_ms(start));
+    if (!(zo_min < zr_max)) return out;
+
+    // Soft-shadow-map window: receivers ∩ the occluder window grown by the widest penumbra
+    // half-extent (§3.3 at the nearest occluder depth and the farthest receiver depth).
+    Window& sw = out.sw;
+    {
+      const double mx = 0.5 * ow.dx() + 0.5 * light.lu * (1.0 / zo_min - 1.0 / zr_max);
+      const double my = 0.5 * ow.dy() + 0.5 * light.lv * (1.0 / zo_min - 1.0 / zr_max);
+      sw.tx0 = std::max(rbox.x0, ow.tx0 - mx);
+      sw.tx1 = std::min(rbox.x1, ow.tx1 + mx);
+      sw.ty0 = std::max(rbox.y0, ow.ty0 - my);
+      sw.ty1 = std::min(rbox.y1, ow.ty1 + my);
+      // A half-texel margin so that bilinear lookups at the receivers' edge stay inside.
+      const double ex = (sw.tx1 - sw.tx0) / ssm_res_, ey = (sw.ty1 - sw.ty0) / ssm_res_;
+      sw.tx0 -= ex;
+      sw.tx1 += ex;
+      sw.ty0 -= ey;
+      sw.ty1 += ey;
+      sw.w = sw.h = ssm_res_;
+    }
+    if (sw.empty()) return out;
+    start = std::chrono::steady_clock::now();
+    out.rmap = ssm::render_light_map(scene, rec, light, sw, ssm::MapFaces::all_nearest, near);
+    times.add("receiver_map", elapsed_ms(start));
+    start = std::chrono::steady_clock::now();
+    for (size_t pass = 0; pass < omaps.size(); ++pass) {
+      out.patches[pass] = make_patches(omaps[pass], ow, sw, light, zr_max, merge_ && !fp16_);
+      for (const Patch& p : out.patches[pass])
+        out.work += static_cast<double>(p.i1 - p.i0 + 1) * (p.j1 - p.j0 + 1);
+    }
+    times.add("patches", elapsed_ms(start));
+    return out;
+  }
+
   /// Micro-patches of one occluder map [Atty 2006 §3.2] and their penumbra extents [§3.3].
+  /// With `merge`, each maximal rectangle of texels of one depth (a face parallel to the light) is
+  /// one patch: the back-projections of abutting patches at one depth abut on the light, so their
+  /// clamped interval overlaps telescope and the rectangle hides exactly the sum of its texels
+  /// (§3.4's product of two overlaps, summed over rows and columns). The answer is the same; the
+  /// cost, occluder texels × extent (§5.1), falls by the rectangle's texel count.
   static std::vector<Patch> make_patches(const Image<float>& omap, const Window& ow,
-                                         const Window& sw, const LightRect& light, double zr_max) {
-    std::vector<Patch> out;
-    for (int j = 0; j < ow.h; ++j)
+                                         const Window& sw, const LightRect& light, double zr_max,
+                                         bool merge) {
+    struct Rect {
+      int i0, i1, j0, j1;
+      float zo;
+    };
+    std::vector<Rect> rects, open, row;
+    for (int j = 0; j < ow.h; ++j) {
+      row.clear();
       for (int i = 0; i < ow.w; ++i) {
-        const double zo = omap(i, j);
+        const float zo = omap(i, j);
         if (!(zo < zr_max)) continue;
-        Patch p;
-        p.zo = zo;
-        // §3.2: the texel's image area at depth z_O, in a plane parallel to the light.
-        const double tx = ow.centre_x(i), ty = ow.centre_y(j);
-        p.px = zo * tx;
-        p.py = zo * ty;
-        p.hx = 0.5 * zo * ow.dx();
-        p.hy = 0.5 * zo * ow.dy();
-        // §3.3: r = LL'/PP' (the same on both axes: same aspect ratio), apex O on C_L C_P with
-        // C_L O = r/(1+r)·C_L C_P, so at depth z_a = z_O·r/(1+r). Scaling from C_L through O to the
-        // farthest receiver depth z_R gives the extent centre C_R = (z_R/z_a)·O — in tangent space
-        // the texel's own centre — and width RR' = LL'·(z_R − z_a)/z_a. (The paper prints
-        // z_R/(z_R − z_O) for the first factor; with depths measured from the light plane the
-        // similar triangles give z_R/z_a, which is what matches the back-projection of §3.4.)
-        const double r = light.lu / (2.0 * p.hx);
-        const double za = zo * r / (1.0 + r);
-        const double rr_x = light.lu * (zr_max - za) / za;
-        const double rr_y = light.lv * (zr_max - za) / za;
-        const double ex = 0.5 * rr_x / zr_max, ey = 0.5 * rr_y / zr_max;  // tangent half-extent
-        // Texel centres inside [t − e, t + e]; clamped in double before the integer cast (an
-        // occluder touching the light has an unbounded extent, §4.1.2).
-        const auto lo = [](double c) { return std::clamp(std::ceil(c - 0.5), -1.0, 1e9); };
-        const auto hi = [](double c) { return std::clamp(std::floor(c - 0.5), -1.0, 1e9); };
-        const double u0 = lo(sw.to_u(tx - ex)), u1 = hi(sw.to_u(tx + ex));
-        const double v0 = lo(sw.to_v(ty + ey)), v1 = hi(sw.to_v(ty - ey));
-        p.i0 = static_cast<int>(std::max(u0, 0.0));
-        p.i1 = static_cast<int>(std::min(u1, sw.w - 1.0));
-        p.j0 = static_cast<int>(std::max(v0, 0.0));
-        p.j1 = static_cast<int>(std::min(v1, sw.h - 1.0));
-        if (p.i0 > p.i1 || p.j0 > p.j1) continue;
-        out.push_back(p);
+        if (merge && !row.empty() && row.back().i1 == i - 1 && row.back().zo == zo)
+          row.back().i1 = i;
+        else
+          row.push_back({i, i, j, j, zo});
       }
+      // A run continues the rectangle above it when both span the same columns at the same depth
+      // (both lists are sorted by column and disjoint).
+      size_t k = 0;
+      for (Rect& r : row) {
+        if (!merge) break;
+        while (k < open.size() && open[k].i0 < r.i0) ++k;
+        if (k < open.size() && open[k].i0 == r.i0 && open[k].i1 == r.i1 && open[k].zo == r.zo) {
+          r.j0 = open[k].j0;
+          open[k].j1 = -1;  // continued by r
+        }
+      }
+      for (const Rect& r : open)  // not continued: complete
+        if (r.j1 >= 0) rects.push_back(r);
+      open.swap(row);
+    }
+    rects.insert(rects.end(), open.begin(), open.end());
+    std::vector<Patch> out;
+    out.reserve(rects.size());
+    for (const Rect& r : rects) {
+      Patch p;
+      p.order_i = r.i0;
+      p.order_j = r.j0;
+      p.zo = r.zo;
+      // §3.2: the texels' image at depth z_O, in a plane parallel to the light.
+      const double tx = ow.tx0 + 0.5 * (r.i0 + r.i1 + 1) * ow.dx();
+      const double ty = ow.ty1 - 0.5 * (r.j0 + r.j1 + 1) * ow.dy();
+      p.px = p.zo * tx;
+      p.py = p.zo * ty;
+      p.hx = 0.5 * p.zo * ow.dx() * (r.i1 - r.i0 + 1);
+      p.hy = 0.5 * p.zo * ow.dy() * (r.j1 - r.j0 + 1);
+      // §3.3: the penumbra extent is the pyramid from the light through the patch, apex O at depth
+      // z_a = z_O·r/(1+r), r = LL'/PP', cut at the farthest receiver depth z_R: width
+      // RR' = LL'·(z_R − z_a)/z_a, centred on the patch's own tangent. (The paper prints
+      // z_R/(z_R − z_O) for the first factor; with depths from the light plane the similar
+      // triangles give z_R/z_a, which is what matches the back-projection of §3.4.) Per axis, in
+      // tangent units, that is h/z_O + L/2·(1/z_O − 1/z_R): a merged patch has its own aspect.
+      const double ex = p.hx / p.zo + 0.5 * light.lu * (1.0 / p.zo - 1.0 / zr_max);
+      const double ey = p.hy / p.zo + 0.5 * light.lv * (1.0 / p.zo - 1.0 / zr_max);
+      // Texel centres inside [t − e, t + e]; clamped in double before the integer cast (an
+      // occluder touching the light has an unbounded extent, §4.1.2).
+      const auto lo = [](double c) { return std::clamp(std::ceil(c - 0.5), -1.0, 1e9); };
+      const auto hi = [](double c) { return std::clamp(std::floor(c - 0.5), -1.0, 1e9); };
+      const double u0 = lo(sw.to_u(tx - ex)), u1 = hi(sw.to_u(tx + ex));
+      const double v0 = lo(sw.to_v(ty + ey)), v1 = hi(sw.to_v(ty - ey));
+      p.i0 = static_cast<int>(std::max(u0, 0.0));
+      p.i1 = static_cast<int>(std::min(u1, sw.w - 1.0));
+      p.j0 = static_cast<int>(std::max(v0, 0.0));
+      p.j1 = static_cast<int>(std::min(v1, sw.h - 1.0));
+      if (p.i0 > p.i1 || p.j0 > p.j1) continue;
+      out.push_back(p);
+    }
+    // Occluder-map order (row-major by the first texel): the blending order.
+    std::sort(out.begin(), out.end(), [&](const Patch& a, const Patch& b) {
+      return std::tie(a.order_j, a.order_i) < std::tie(b.order_j, b.order_i);
+    });
     return out;
   }
 
   int res_, ssm_res_;
-  bool two_pass_, back_furthest_, fp16_;
+  bool two_pass_, back_furthest_, fp16_, merge_;
+  double budget_;  // soft-shadow-map texel updates per frame
 };
 
 }  // namespace
@@ -382,6 +494,20 @@ void register_ssm(MethodRegistry& registry) {
        "false",
        "round every blend to binary16 (the 2006 GPUs' blending, appendix A)",
        {}},
+      {"merge",
+       OptionType::boolean,
+       "true",
+       "one micro-patch per rectangle of equal-depth texels (same answer; off under fp16, whose "
+       "rounding is per blend)",
+       {}},
+      {"budget",
+       OptionType::integer,
+       "300",
+       "soft-shadow-map texel updates allowed per frame, in millions; above it the occluder map "
+       "resolution is halved (§5.1)",
+       {},
+       1,
+       1000000},
   };
   info.create = [](const MethodOptions& o) { return std::make_unique<Ssm>(o); };
   registry.add(std::move(info));
