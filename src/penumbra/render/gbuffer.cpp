@@ -22,55 +22,74 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
   g.ray_offset = Image<float>(g.width, g.height, 0.0f);
 
   const Camera::RayBasis rays = camera.ray_basis();
-  parallel_rows(g.height, [&](int y) {
+  // Primary rays in 4×4 pixel packets (rtcIntersect16): coherent rays share the traversal, about
+  // 2× faster than single rays. Row bands of 4 in parallel; each pixel is written by one task.
+  constexpr int kTile = 4;
+  parallel_rows((g.height + kTile - 1) / kTile, [&](int band) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    for (int x = 0; x < g.width; ++x) {
-      const Vec3 dir = rays.direction(static_cast<float>(x), static_cast<float>(y));
-      // validate_scene guarantees a finite camera basis; Embree aborts on a non-finite ray.
-      if (!is_finite(dir)) throw Error("internal: non-finite camera ray");
-      RTCRayHit rh{};
-      rh.ray.org_x = camera.position.x;
-      rh.ray.org_y = camera.position.y;
-      rh.ray.org_z = camera.position.z;
-      rh.ray.dir_x = dir.x;
-      rh.ray.dir_y = dir.y;
-      rh.ray.dir_z = dir.z;
-      rh.ray.tnear = 0.0f;
-      rh.ray.tfar = kInfinity;
-      rh.ray.mask = EmbreeScene::kMaskVisible;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(embree.handle(), &context, &rh);
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-
-      const int mesh_index = embree.mesh_of_geometry(rh.hit.geomID);
-      const Mesh& mesh = scene.meshes[mesh_index];
-      const Triangle& tri = mesh.triangles[rh.hit.primID];
-      const Vec3 p0 = mesh.positions[tri.v[0]], p1 = mesh.positions[tri.v[1]],
-                 p2 = mesh.positions[tri.v[2]];
-      const float u = rh.hit.u, v = rh.hit.v;
-      // Barycentric reconstruction on the triangle, not org + t·dir: the point then lies on the
-      // triangle's plane to float precision, which the shared offset policy relies on.
-      const Vec3 world_pos = (1.0f - u - v) * p0 + u * p1 + v * p2;
-      Vec3 n = triangle_normal(p0, p1, p2);
-      const bool flip = glm::dot(n, dir) > 0.0f;
-      if (flip) n = -n;
-      Vec3 ns = n;
-      if (!mesh.normals.empty()) {
-        const Vec3 interp = (1.0f - u - v) * mesh.normals[tri.v[0]] + u * mesh.normals[tri.v[1]] +
-                            v * mesh.normals[tri.v[2]];
-        const float len = glm::length(interp);
-        if (len > 0.0f) ns = (flip ? -interp : interp) / len;
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const int y0 = band * kTile;
+    for (int x0 = 0; x0 < g.width; x0 += kTile) {
+      alignas(64) int valid[16];
+      alignas(64) RTCRayHit16 rh;
+      for (int l = 0; l < 16; ++l) {
+        const int x = x0 + l % kTile, y = y0 + l / kTile;
+        valid[l] = x < g.width && y < g.height ? -1 : 0;
+        const Vec3 dir =
+            valid[l] ? rays.direction(static_cast<float>(x), static_cast<float>(y)) : rays.forward;
+        // validate_scene guarantees a finite camera basis; Embree aborts on a non-finite ray.
+        if (!is_finite(dir)) throw Error("internal: non-finite camera ray");
+        rh.ray.org_x[l] = camera.position.x;
+        rh.ray.org_y[l] = camera.position.y;
+        rh.ray.org_z[l] = camera.position.z;
+        rh.ray.dir_x[l] = dir.x;
+        rh.ray.dir_y[l] = dir.y;
+        rh.ray.dir_z[l] = dir.z;
+        rh.ray.tnear[l] = 0.0f;
+        rh.ray.tfar[l] = kInfinity;
+        rh.ray.time[l] = 0.0f;
+        rh.ray.mask[l] = EmbreeScene::kMaskVisible;
+        rh.ray.id[l] = static_cast<unsigned>(l);
+        rh.ray.flags[l] = 0;
+        rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
       }
-      const size_t i = static_cast<size_t>(y) * g.width + x;
-      g.world_pos[i] = world_pos;
-      g.geo_normal[i] = n;
-      g.shading_normal[i] = ns;
-      g.ray_offset[i] = ray_offset_for_triangle(p0, p1, p2);
-      g.depth[i] = rh.ray.tfar;
-      g.mesh_id[i] = mesh_index;
-      g.prim_id[i] = static_cast<int32_t>(rh.hit.primID);
-      g.uv[i] = mesh.uv_at(rh.hit.primID, u, v);
+      rtcIntersect16(valid, embree.handle(), &context, &rh);
+      for (int l = 0; l < 16; ++l) {
+        if (!valid[l] || rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID) continue;
+        const int x = x0 + l % kTile, y = y0 + l / kTile;
+        const Vec3 dir(rh.ray.dir_x[l], rh.ray.dir_y[l], rh.ray.dir_z[l]);
+        const int mesh_index = embree.mesh_of_geometry(rh.hit.geomID[l]);
+        const Mesh& mesh = scene.meshes[mesh_index];
+        const unsigned prim = rh.hit.primID[l];
+        const Triangle& tri = mesh.triangles[prim];
+        const Vec3 p0 = mesh.positions[tri.v[0]], p1 = mesh.positions[tri.v[1]],
+                   p2 = mesh.positions[tri.v[2]];
+        const float u = rh.hit.u[l], v = rh.hit.v[l];
+        // Barycentric reconstruction on the triangle, not org + t·dir: the point then lies on the
+        // triangle's plane to float precision, which the shared offset policy relies on.
+        const Vec3 world_pos = (1.0f - u - v) * p0 + u * p1 + v * p2;
+        Vec3 n = triangle_normal(p0, p1, p2);
+        const bool flip = glm::dot(n, dir) > 0.0f;
+        if (flip) n = -n;
+        Vec3 ns = n;
+        if (!mesh.normals.empty()) {
+          const Vec3 interp = (1.0f - u - v) * mesh.normals[tri.v[0]] + u * mesh.normals[tri.v[1]] +
+                              v * mesh.normals[tri.v[2]];
+          const float len = glm::length(interp);
+          if (len > 0.0f) ns = (flip ? -interp : interp) / len;
+        }
+        const size_t i = static_cast<size_t>(y) * g.width + x;
+        g.world_pos[i] = world_pos;
+        g.geo_normal[i] = n;
+        g.shading_normal[i] = ns;
+        g.ray_offset[i] = ray_offset_for_triangle(p0, p1, p2);
+        g.depth[i] = rh.ray.tfar[l];
+        g.mesh_id[i] = mesh_index;
+        g.prim_id[i] = static_cast<int32_t>(prim);
+        g.uv[i] = mesh.uv_at(prim, u, v);
+      }
     }
   });
   return g;
