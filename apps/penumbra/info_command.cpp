@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "penumbra/core/error.hpp"
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/topology.hpp"
 
@@ -10,10 +11,15 @@ namespace penumbra::cli {
 
 namespace {
 
+/// A name from the scene file, safe for one terminal line (control characters escaped, cut).
+std::string shown(const std::string& name) {
+  return one_line(name, 80);
+}
+
 void run_info(const std::string& name) {
   const Scene scene = load_scene(name);
   const Bounds3 b = scene.bounds();
-  std::printf("scene      %s\n", scene.name.c_str());
+  std::printf("scene      %s\n", shown(scene.name).c_str());
   std::printf("triangles  %zu in %zu mesh(es)\n", scene.triangle_count(), scene.meshes.size());
   std::printf("bounds     (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n", b.lo.x, b.lo.y,
               b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());
@@ -24,7 +30,7 @@ void run_info(const std::string& name) {
   for (const Mesh& m : scene.meshes) {
     const MeshTopology t = analyze_topology(m);
     const Material& mat = scene.material_of(m);
-    std::printf("mesh       %-12s %8zu triangles  %s", m.name.c_str(), m.triangle_count(),
+    std::printf("mesh       %-12s %8zu triangles  %s", shown(m.name).c_str(), m.triangle_count(),
                 t.closed_manifold ? "closed 2-manifold" : "open/non-manifold");
     if (!t.closed_manifold)
       std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistent edges)", t.boundary_edges,
@@ -35,7 +41,7 @@ void run_info(const std::string& name) {
     std::printf("\n");
   }
   for (const Light& l : scene.lights) {
-    std::printf("light      %-12s %-6s centre (%.3g, %.3g, %.3g)", l.name.c_str(),
+    std::printf("light      %-12s %-6s centre (%.3g, %.3g, %.3g)", shown(l.name).c_str(),
                 std::string(to_string(l.shape)).c_str(), l.center.x, l.center.y, l.center.z);
     if (l.shape == LightShape::rect)
       std::printf(", %.3g x %.3g", glm::length(l.edge_u), glm::length(l.edge_v));

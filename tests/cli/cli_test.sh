@@ -79,6 +79,12 @@ listing="$("$bin" list)"
 grep -q "raytrace" <<<"$listing" && ok || bad "list lacks raytrace"
 info="$("$bin" info quad)"
 grep -q "closed 2-manifold\|open/non-manifold" <<<"$info" && ok || bad "info lacks topology"
+# Names from the file are escaped: a newline in a mesh name does not start a forged line.
+printf '%s' '{"camera":{"position":[0,2,4],"target":[0,0,0]},"materials":[{"name":"g"}],
+ "meshes":[{"name":"a\nmesh      forged","shape":"quad","center":[0,0,0],"edge_u":[0,0,4],"edge_v":[4,0,0],"material":"g"}],
+ "lights":[{"type":"rect","center":[0,3,0],"edge_u":[1,0,0],"edge_v":[0,0,1],"radiance":5}]}' >"$work/nl_name.json"
+info="$("$bin" info "$work/nl_name.json")"
+[ "$(grep -c '^mesh ' <<<"$info")" = 1 ] && grep -q 'a\\nmesh' <<<"$info" && ok || bad "info echoes a raw newline"
 
 # report: one page and its images; scene: a JSON file that renders; a model file as --scene.
 if "$bin" report --scene quad --method raytrace --size 32x32 --samples 2 --out "$work/rep" \
