@@ -14,7 +14,7 @@ Backend::Backend(const ContextOptions& options)
 Backend::~Backend() = default;
 
 DepthPipeline& Backend::depth_pipeline() {
-  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_);
+  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64());
   return *depth_;
 }
 

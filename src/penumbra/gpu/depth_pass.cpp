@@ -1,5 +1,7 @@
 #include "penumbra/gpu/depth_pass.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "penumbra/core/error.hpp"
@@ -12,21 +14,53 @@ namespace {
 constexpr VkFormat kColorFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
+// depth_map.vert (hardware coverage).
 struct DepthPush {
   VkDeviceAddress vertices;
-  VkDeviceAddress view;  // depth_map_f64.frag: View (the vertex shader skips these 8 bytes)
-  float eye[4];          // xyz, near
-  float right[4];        // xyz, tan_half_x
-  float up[4];           // xyz, tan_half_y
-  float forward[4];      // xyz, unused
+  uint64_t padding;  // std430: the vec4s start at 16
+  float eye[4];      // xyz, near
+  float right[4];    // xyz, tan_half_x
+  float up[4];       // xyz, tan_half_y
+  float forward[4];  // xyz, unused
 };
 static_assert(sizeof(DepthPush) == 80);
 
-// depth_map_f64.frag's View (scalar layout).
-struct ViewF64 {
-  double eye[3], right[3], up[3], forward[3];
-  double tan_half_x, tan_half_y, resolution;
+// The exact pass (depth_exact.glsl).
+struct ExactPush {
+  VkDeviceAddress polys;
+  float resolution;
+  float depth_scale;
 };
+
+// depth_setup.comp's View (scalar layout).
+struct SetupView {
+  double eye[3], right[3], up[3], forward[3];
+  double tan_half_x, tan_half_y, resolution, near;
+  int32_t faces;
+};
+
+struct SetupPush {
+  VkDeviceAddress vertices, view, polys;
+  uint32_t n;
+};
+
+// depth_exact.glsl's ScreenPoly (scalar layout: 9 dvec3, 5 ints, padded to 8).
+constexpr size_t kScreenPolyBytes = 240;
+
+// A power of two 2^-k with 2^k above every view depth a caster point can have (its distance from
+// the eye), so depth × scale lies in (0, 1) and is exact.
+float depth_scale(const Scene& scene, const Vec3& eye) {
+  const Bounds3 b = scene.bounds();
+  double far = 1.0;
+  for (int c = 0; c < 8 && !b.empty(); ++c) {
+    const DVec3 corner((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y,
+                       (c & 4) ? b.hi.z : b.lo.z);
+    far = std::max(far, glm::length(corner - DVec3(eye)));
+  }
+  int exponent = 0;
+  std::frexp(2.0 * far, &exponent);
+  return static_cast<float>(std::ldexp(1.0, -std::min(exponent, 120)));
+}
 
 constexpr VkShaderStageFlags kPushStages =
     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -58,19 +92,39 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
   vkCmdPipelineBarrier2(cmd, &di);
 }
 
+void record_hardware_draw(VkCommandBuffer cmd, const DepthPipeline& pipe, const GpuDepthMap& map,
+                          const Buffer& vertices) {
+  const Projection& pr = map.view.proj;
+  DepthPush push{};
+  push.vertices = vertices.address();
+  const float near = static_cast<float>(map.view.near);
+  auto put = [](float* d, const DVec3& v, double w) {
+    d[0] = static_cast<float>(v.x), d[1] = static_cast<float>(v.y), d[2] = static_cast<float>(v.z);
+    d[3] = static_cast<float>(w);
+  };
+  put(push.eye, pr.eye, near);
+  put(push.right, pr.right, pr.tan_half_x);
+  put(push.up, pr.up, pr.tan_half_y);
+  put(push.forward, pr.forward, 0.0);
+  vkCmdPushConstants(cmd, pipe.layout(), kPushStages, 0, sizeof(push), &push);
+  if (map.triangles) vkCmdDraw(cmd, static_cast<uint32_t>(map.triangles * 3), 1, 0, 0);
+}
+
 }  // namespace
 
-DepthPipeline::DepthPipeline(VulkanContext& ctx) : device_(ctx.device()) {
+DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact)
+    : device_(ctx.device()), exact_(exact && ctx.has_float64()) {
   const VkPushConstantRange range{kPushStages, 0, sizeof(DepthPush)};
   VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   li.pushConstantRangeCount = 1;
   li.pPushConstantRanges = &range;
   check(vkCreatePipelineLayout(device_, &li, nullptr, &layout_), "vkCreatePipelineLayout");
 
-  VkShaderModule vert = make_module(device_, spirv(Shader::depth_map_vert));
-  float64_ = ctx.has_float64();
+  VkShaderModule vert =
+      make_module(device_, spirv(exact_ ? Shader::depth_map_exact_vert : Shader::depth_map_vert));
   VkShaderModule frag =
-      make_module(device_, spirv(float64_ ? Shader::depth_map_f64_frag : Shader::depth_map_frag));
+      make_module(device_, spirv(exact_ ? Shader::depth_map_exact_frag : Shader::depth_map_frag));
+  if (exact_) setup_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_setup));
   VkPipelineShaderStageCreateInfo stages[2] = {
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
@@ -98,7 +152,8 @@ DepthPipeline::DepthPipeline(VulkanContext& ctx) : device_(ctx.device()) {
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   ds.depthTestEnable = VK_TRUE;
   ds.depthWriteEnable = VK_TRUE;
-  ds.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed z: depth = near / view depth
+  // Hardware pass: reversed z, depth = near / view depth. Exact pass: depth = view depth × 2^-k.
+  ds.depthCompareOp = exact_ ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_GREATER;
   VkPipelineColorBlendAttachmentState att{};
   att.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
   VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
@@ -212,6 +267,28 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
                       VK_IMAGE_ASPECT_DEPTH_BIT);
   const Image2D& depth = images.back();
 
+  const bool exact = pipe.exact();
+  VkDeviceAddress polys = 0;
+  if (exact && out.triangles) {
+    const Projection& pr = out.view.proj;
+    SetupView v{};
+    for (int c = 0; c < 3; ++c)
+      v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
+      v.forward[c] = pr.forward[c];
+    v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
+    v.resolution = res;
+    v.near = out.view.near;
+    v.faces = spec.faces == FaceSelect::front ? 0 : spec.faces == FaceSelect::back ? 1 : 2;
+    keep.push_back(ctx.upload(&v, sizeof(v)));
+    const VkDeviceAddress view = keep.back().address();
+    keep.emplace_back(ctx, out.triangles * kScreenPolyBytes, Memory::device);
+    polys = keep.back().address();
+    cl.dispatch(pipe.setup(),
+                SetupPush{vbuf.address(), view, polys, static_cast<uint32_t>(out.triangles)},
+                out.triangles);
+    cl.barrier();
+  }
+
   VkCommandBuffer cmd = cl.cmd();
   image_barrier(cmd, color.image(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
@@ -228,7 +305,7 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
   da.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
   da.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  da.clearValue.depthStencil.depth = 0.0f;  // reversed z: 0 is infinitely far
+  da.clearValue.depthStencil.depth = exact ? 1.0f : 0.0f;  // infinitely far
   VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
   ri.renderArea = {{0, 0}, {static_cast<uint32_t>(res), static_cast<uint32_t>(res)}};
   ri.layerCount = 1;
@@ -244,34 +321,19 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   // FaceSelect::front keeps triangles whose normal cross(p1−p0, p2−p0) faces the light: after the
   // y flip of depth_map.vert those have the winding Vulkan calls counter-clockwise.
   vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
-  vkCmdSetCullMode(cmd, spec.faces == FaceSelect::front  ? VK_CULL_MODE_BACK_BIT
-                        : spec.faces == FaceSelect::back ? VK_CULL_MODE_FRONT_BIT
-                                                         : VK_CULL_MODE_NONE);
+  // The exact pass culls in depth_setup.comp (its boxes have no winding).
+  vkCmdSetCullMode(cmd, exact                             ? VK_CULL_MODE_NONE
+                        : spec.faces == FaceSelect::front ? VK_CULL_MODE_BACK_BIT
+                        : spec.faces == FaceSelect::back  ? VK_CULL_MODE_FRONT_BIT
+                                                          : VK_CULL_MODE_NONE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe.handle());
-  const Projection& pr = out.view.proj;
-  DepthPush push{};
-  push.vertices = vbuf.address();
-  if (pipe.float64()) {
-    ViewF64 v{};
-    for (int c = 0; c < 3; ++c)
-      v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
-      v.forward[c] = pr.forward[c];
-    v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
-    v.resolution = res;
-    keep.push_back(ctx.upload(&v, sizeof(v)));
-    push.view = keep.back().address();
+  if (exact) {
+    const ExactPush push{polys, static_cast<float>(res), depth_scale(scene, light_point)};
+    vkCmdPushConstants(cmd, pipe.layout(), kPushStages, 0, sizeof(push), &push);
+    if (out.triangles) vkCmdDraw(cmd, static_cast<uint32_t>(out.triangles * 6), 1, 0, 0);
+  } else {
+    record_hardware_draw(cmd, pipe, out, vbuf);
   }
-  const float near = static_cast<float>(out.view.near);
-  auto put = [](float* d, const DVec3& v, double w) {
-    d[0] = static_cast<float>(v.x), d[1] = static_cast<float>(v.y), d[2] = static_cast<float>(v.z);
-    d[3] = static_cast<float>(w);
-  };
-  put(push.eye, pr.eye, near);
-  put(push.right, pr.right, pr.tan_half_x);
-  put(push.up, pr.up, pr.tan_half_y);
-  put(push.forward, pr.forward, 0.0);
-  vkCmdPushConstants(cmd, pipe.layout(), kPushStages, 0, sizeof(push), &push);
-  if (out.triangles) vkCmdDraw(cmd, static_cast<uint32_t>(out.triangles * 3), 1, 0, 0);
   vkCmdEndRendering(cmd);
   image_barrier(cmd, color.image(), VK_IMAGE_ASPECT_COLOR_BIT,
                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);

@@ -50,9 +50,14 @@ const uint32_t kDepthMapVert[] = {
 const uint32_t kDepthMapFrag[] = {
 #include "depth_map.frag.inc"
 };
-
-const uint32_t kDepthMapF64Frag[] = {
-#include "depth_map_f64.frag.inc"
+const uint32_t kDepthMapExactVert[] = {
+#include "depth_map_exact.vert.inc"
+};
+const uint32_t kDepthMapExactFrag[] = {
+#include "depth_map_exact.frag.inc"
+};
+const uint32_t kDepthSetup[] = {
+#include "depth_setup.comp.inc"
 };
 
 }  // namespace
@@ -89,8 +94,12 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDepthMapVert;
     case Shader::depth_map_frag:
       return kDepthMapFrag;
-    case Shader::depth_map_f64_frag:
-      return kDepthMapF64Frag;
+    case Shader::depth_map_exact_vert:
+      return kDepthMapExactVert;
+    case Shader::depth_map_exact_frag:
+      return kDepthMapExactFrag;
+    case Shader::depth_setup:
+      return kDepthSetup;
     case Shader::count_:
       break;
   }

@@ -25,7 +25,9 @@ enum class Shader {
   shadow_lookup_f64,
   depth_map_vert,
   depth_map_frag,
-  depth_map_f64_frag,
+  depth_map_exact_vert,
+  depth_map_exact_frag,
+  depth_setup,
   count_
 };
 
