@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "penumbra/gpu/commands.hpp"
+#include "penumbra/gpu/graphics.hpp"
 #include "penumbra/raster/depth_map.hpp"
 #include "penumbra/scene/scene.hpp"
 
@@ -28,36 +29,16 @@ class DepthPipeline {
   ~DepthPipeline();
   DepthPipeline(const DepthPipeline&) = delete;
   DepthPipeline& operator=(const DepthPipeline&) = delete;
-  VkPipeline handle() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
+  VkPipeline handle() const { return graphics_->handle(); }
+  VkPipelineLayout layout() const { return graphics_->layout(); }
   /// The exact pass (depth_setup.comp + depth_map_exact.*).
   bool exact() const { return exact_; }
   const ComputePipeline& setup() const { return *setup_; }
 
  private:
-  VkDevice device_;
   bool exact_ = false;
+  std::unique_ptr<GraphicsPipeline> graphics_;
   std::unique_ptr<ComputePipeline> setup_;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
-};
-
-/// A device image with its memory and view. Move-only.
-class Image2D {
- public:
-  Image2D(VulkanContext& ctx, int width, int height, VkFormat format, VkImageUsageFlags usage,
-          VkImageAspectFlags aspect);
-  ~Image2D();
-  Image2D(const Image2D&) = delete;
-  Image2D& operator=(const Image2D&) = delete;
-  VkImage image() const { return image_; }
-  VkImageView view() const { return view_; }
-
- private:
-  VkDevice device_;
-  VkImage image_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkImageView view_ = VK_NULL_HANDLE;
 };
 
 /// Empty texels hold FLT_MAX (the CPU map's +inf: never nearer than a receiver).
