@@ -36,7 +36,8 @@ struct ExactPush {
 // depth_setup.comp's View (scalar layout).
 struct SetupView {
   double eye[3], right[3], up[3], forward[3];
-  double tan_half_x, tan_half_y, resolution, near;
+  double tan_half_x, tan_half_y, width, height;  // clip.glsl's ClipView
+  double near;
   int32_t faces;
 };
 
@@ -138,7 +139,7 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
       v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
       v.forward[c] = pr.forward[c];
     v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
-    v.resolution = res;
+    v.width = v.height = res;
     v.near = out.view.near;
     v.faces = spec.faces == FaceSelect::front ? 0 : spec.faces == FaceSelect::back ? 1 : 2;
     keep.push_back(ctx.upload(&v, sizeof(v)));

@@ -9,7 +9,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_float64 : require
 
 /// kMaxClipVertices of raster/projection.hpp.
-const int kMaxPolyVertices = 9;
+const int kMaxPolyVertices = 9;  // kMaxClipVertices
 
 /// One caster triangle after projection and clipping: `count` screen vertices (x, y, 1/w), 0 when
 /// culled; the pixel box the CPU scans, [x0, x1] × [y0, y1] inclusive.
