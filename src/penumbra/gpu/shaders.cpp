@@ -59,6 +59,15 @@ const uint32_t kDepthMapExactFrag[] = {
 const uint32_t kDepthSetup[] = {
 #include "depth_setup.comp.inc"
 };
+const uint32_t kVolumeSetup[] = {
+#include "volume_setup.comp.inc"
+};
+const uint32_t kVolumeVert[] = {
+#include "volume.vert.inc"
+};
+const uint32_t kVolumeFrag[] = {
+#include "volume.frag.inc"
+};
 
 }  // namespace
 
@@ -100,6 +109,12 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDepthMapExactFrag;
     case Shader::depth_setup:
       return kDepthSetup;
+    case Shader::volume_setup:
+      return kVolumeSetup;
+    case Shader::volume_vert:
+      return kVolumeVert;
+    case Shader::volume_frag:
+      return kVolumeFrag;
     case Shader::count_:
       break;
   }

@@ -28,6 +28,9 @@ enum class Shader {
   depth_map_exact_vert,
   depth_map_exact_frag,
   depth_setup,
+  volume_setup,
+  volume_vert,
+  volume_frag,
   count_
 };
 
