@@ -279,9 +279,17 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
       if (const char* env = std::getenv("PENUMBRA_VK_DEVICE")) selector = env;
     physical_ = choose_device(devices, selector);
 
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(physical_, &props);
+    VkPhysicalDeviceSubgroupProperties subgroup{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props2.pNext = &subgroup;
+    vkGetPhysicalDeviceProperties2(physical_, &props2);
+    const VkPhysicalDeviceProperties& props = props2.properties;
     info_ = {props.deviceName, type_name(props.deviceType), props.apiVersion};
+    subgroup_size_ = subgroup.subgroupSize;
+    subgroup_ballot_ = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                       (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) &&
+                       subgroup.subgroupSize >= 8 && subgroup.subgroupSize <= 128;
     timestamp_period_ns_ = props.limits.timestampPeriod;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 

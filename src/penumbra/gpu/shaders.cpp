@@ -17,6 +17,9 @@ const uint32_t kRadixHist[] = {
 const uint32_t kRadixScatter[] = {
 #include "radix_scatter.comp.inc"
 };
+const uint32_t kRadixScatterCompare[] = {
+#include "radix_scatter_compare.comp.inc"
+};
 const uint32_t kGearsCells[] = {
 #include "gears_cells.comp.inc"
 };
@@ -81,6 +84,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kRadixHist;
     case Shader::radix_scatter:
       return kRadixScatter;
+    case Shader::radix_scatter_compare:
+      return kRadixScatterCompare;
     case Shader::gears_cells:
       return kGearsCells;
     case Shader::gears_count:

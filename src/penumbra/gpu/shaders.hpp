@@ -14,6 +14,7 @@ enum class Shader {
   scan_add,
   radix_hist,
   radix_scatter,
+  radix_scatter_compare,
   gears_cells,
   gears_count,
   gears_write,

@@ -1,5 +1,7 @@
 #include "penumbra/gpu/sort.hpp"
 
+#include "penumbra/core/error.hpp"
+
 namespace penumbra::gpu {
 
 namespace {
@@ -42,8 +44,15 @@ void record_exclusive_scan(Programs& programs, CommandList& cl, const Buffer& da
 
 bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
                        const Buffer& values, const Buffer& keys_tmp, const Buffer& vals_tmp,
-                       uint32_t n, int key_bits, std::deque<Buffer>& scratch) {
+                       uint32_t n, int key_bits, std::deque<Buffer>& scratch,
+                       RadixRanking ranking) {
   if (n == 0) return true;
+  const bool ballot = ranking == RadixRanking::ballot ||
+                      (ranking == RadixRanking::best && programs.context().has_subgroup_ballot());
+  if (ballot && !programs.context().has_subgroup_ballot())
+    throw Error("vulkan: the device has no subgroup ballots for the radix sort");
+  const ComputePipeline& scatter =
+      programs.get(ballot ? Shader::radix_scatter : Shader::radix_scatter_compare);
   const uint32_t blocks = (n + kGroupSize - 1) / kGroupSize;
   scratch.emplace_back(programs.context(), size_t{blocks} * 256 * 4, Memory::device);
   const Buffer& hist = scratch.back();
@@ -57,7 +66,7 @@ bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
                 HistPush{src_k->address(), hist.address(), n, s, blocks}, n);
     cl.barrier();
     record_exclusive_scan(programs, cl, hist, blocks * 256, scratch);
-    cl.dispatch(programs.get(Shader::radix_scatter),
+    cl.dispatch(scatter,
                 ScatterPush{src_k->address(), src_v->address(), dst_k->address(), dst_v->address(),
                             hist.address(), n, s, blocks},
                 n);

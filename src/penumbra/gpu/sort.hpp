@@ -16,10 +16,18 @@ namespace penumbra::gpu {
 void record_exclusive_scan(Programs& programs, CommandList& cl, const Buffer& data, uint32_t n,
                            std::deque<Buffer>& scratch);
 
+/// How a block of 256 keys ranks each key among the earlier keys with the same digit.
+enum class RadixRanking {
+  best,     // subgroup ballots where the device has them, else compare
+  ballot,   // linear: 8 ballots match the digit within a subgroup, per-subgroup counts scanned
+  compare,  // quadratic: every earlier key of the block compared (any device)
+};
+
 /// Stable sort of n (key, value) pairs by the low `key_bits` bits of the keys (8 bits per pass).
 /// Returns true when the result is in (keys, values), false when it is in (keys_tmp, vals_tmp).
 bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
                        const Buffer& values, const Buffer& keys_tmp, const Buffer& vals_tmp,
-                       uint32_t n, int key_bits, std::deque<Buffer>& scratch);
+                       uint32_t n, int key_bits, std::deque<Buffer>& scratch,
+                       RadixRanking ranking = RadixRanking::best);
 
 }  // namespace penumbra::gpu
