@@ -14,6 +14,7 @@
 // the rasterizer only proposes pixels (a superset), it never decides one.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <initializer_list>
 
@@ -44,6 +45,7 @@ struct VolumeView {
   double tan_half_x, tan_half_y, width, height;
   double light[3];
   double near, guard, margin;
+  double grow;  // of the candidate rectangles, pixels
 };
 
 // volume.glsl's VolumeFace: 4 + 1 dvec3, a double, 4 ints, 4 vec2.
@@ -116,6 +118,25 @@ Volume build_volume(const Scene& scene, const DVec3& C, const Vec3& light_point)
   return v;
 }
 
+/// How far the candidate rectangles grow around a face's polygon: a pixel counts only if its
+/// shadow origin projects inside the polygon, at most `offset` pixels from its centre in x and y,
+/// so √2 × offset (the CPU's margin rounds it up to whole pixels plus one, which would multiply
+/// the fragments of small caps), plus a quarter pixel against the rasterizer's vertex snapping.
+double candidate_growth(const ShadowVolumePixels& px, const GBuffer& g,
+                        const Image<uint8_t>& receivers) {
+  double offset = 0.0;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * g.width + x;
+      if (receivers[i] != kActive) continue;
+      const DVec4 c = px.proj.to_clip(DVec4(px.q[i] + px.proj.eye, 1.0));
+      if (!(c.w > 0.0)) return px.margin * std::sqrt(2.0) + 0.25;
+      const DVec3 s = px.proj.to_screen(c);
+      offset = std::max({offset, std::abs(s.x - (x + 0.5)), std::abs(s.y - (y + 0.5))});
+    }
+  return std::min(offset, px.margin) * std::sqrt(2.0) + 0.25;
+}
+
 class ShadowVolumeVk final : public ShadowMethod {
  public:
   // The pipeline first: a device without shaderFloat64 fails here, before any work.
@@ -152,6 +173,7 @@ class ShadowVolumeVk final : public ShadowMethod {
     view.width = pr.width, view.height = pr.height;
     put3(view.light, DVec3(light_point));
     view.near = px.near, view.guard = px.guard, view.margin = px.margin;
+    view.grow = candidate_growth(px, g, ctx.receivers);
     std::deque<Buffer> keep;
     keep.push_back(vk.upload(volume.positions));
     const Buffer& positions = keep.back();

@@ -12,6 +12,7 @@ layout(buffer_reference, scalar) buffer View {
   ClipView clip;
   dvec3 light;
   double near, guard, margin;
+  double grow;  // candidate rectangle growth, pixels (shadow_volume_vk.cpp: candidate_growth)
 };
 
 /// A face as the host builds it: vertex ids (2g: caster vertex g, 2g+1: its extrusion from the
@@ -99,9 +100,8 @@ void main() {
   f.has_plane = fin.has_plane;
   f.plane_n = fin.plane_n;
   f.plane_k = fin.plane_k;
-  // The candidate rectangle: the polygon's extent along its longest edge and across it, grown by
-  // √2 × margin (a pixel counts only if its shadow origin projects inside the polygon, at most
-  // `margin` pixels in x and y from its centre) plus half a pixel against float snapping.
+  // The candidate rectangle: the polygon's extent along its longest edge and across it, grown so
+  // that it holds every pixel centre whose shadow origin can project inside the polygon.
   int longest = 0;
   double best = -1.0;
   for (int i = 0; i < count; ++i) {
@@ -115,7 +115,7 @@ void main() {
     u0 = min(u0, dot(s[i], u)), u1 = max(u1, dot(s[i], u));
     v0 = min(v0, dot(s[i], v)), v1 = max(v1, dot(s[i], v));
   }
-  const double grow = 1.41421356 * margin + 0.5;
+  const double grow = view.grow;
   u0 -= grow, u1 += grow, v0 -= grow, v1 += grow;
   f.rect[0] = vec2(u0 * u + v0 * v);
   f.rect[1] = vec2(u1 * u + v0 * v);
