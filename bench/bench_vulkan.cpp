@@ -5,19 +5,27 @@
 // its stage times (ms per frame). BM_Vulkan/<method>_<scene>: the Vulkan method after one untimed
 // run (pipelines are compiled on first use), counters = the GPU stage times from timestamp queries
 // (gpu_*) and the host wall times around them (wall_*), plus the check against the CPU method on
-// the same frame: differ_pixels (|ΔV| > 1e-6 among the active pixels), max_abs_dv and, for gears,
+// the same frame: differ_pixels (|ΔV| > 1e-6) among active_pixels, max_abs_dv and, for gears,
 // differ_samples (per-sample masks). Skipped without a Vulkan device or a fetched model.
+// BM_RadixSort/<ranking>: the GEARS pair sort alone (gpu/sort.hpp), its two block rankings on the
+// same keys — subgroup ballots (linear in the block size) and byte compares (quadratic, the
+// fallback of devices without ballots); Args {log2 of the pair count, key bits}, counter gpu_ms.
 #include <benchmark/benchmark.h>
 
 #ifdef PENUMBRA_HAVE_VULKAN
 
+#include <bit>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "bench_fixture.hpp"
 #include "penumbra/gpu/backend.hpp"
+#include "penumbra/gpu/sort.hpp"
 #include "penumbra/render/receivers.hpp"
 
 namespace penumbra {
@@ -38,8 +46,15 @@ const bench::Fixture* frame_or_skip(benchmark::State& state, const std::string& 
   return f;
 }
 
-/// Per-frame means of every stage time into the counters.
-void add_stage_means(benchmark::State& state, const std::map<std::string, double>& sums) {
+/// Times `info` on the frame; counters = the per-frame mean of every stage time.
+void time_runs(benchmark::State& state, const Frame& frame, const MethodInfo& info,
+               const MethodOptions& opts) {
+  std::map<std::string, double> sums;
+  for (auto _ : state) {
+    const MethodResult r = frame.run(info, opts, false);
+    for (const auto& [stage, ms] : r.per_light[0].times.stages()) sums[stage] += ms;
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
   for (const auto& [stage, ms] : sums)
     state.counters[stage] = ms / static_cast<double>(state.iterations());
 }
@@ -48,14 +63,7 @@ void BM_Cpu(benchmark::State& state, const std::string& method, const std::strin
   const bench::Fixture* f = frame_or_skip(state, scene);
   if (!f) return;
   const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, {});
-  std::map<std::string, double> sums;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    for (const auto& [stage, ms] : r.per_light[0].times.stages()) sums[stage] += ms;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  add_stage_means(state, sums);
+  time_runs(state, *f->frame, info, resolve_options(info, {}));
 }
 
 /// The GPU result against the CPU method's on the same frame (one run each, masks for gears).
@@ -65,10 +73,11 @@ void check(benchmark::State& state, const bench::Fixture& f, const MethodInfo& c
   const MethodResult cpu = f.frame->run(cpu_info, opts, masks);
   const MethodResult gpu = f.frame->run(gpu_info, opts, masks);
   const Visibility &c = cpu.per_light[0], &g = gpu.per_light[0];
-  double differ = 0.0, max_abs = 0.0, differ_samples = 0.0;
+  double active = 0.0, differ = 0.0, max_abs = 0.0, differ_samples = 0.0;
   const Image<uint8_t>& receivers = f.frame->receivers(0);
   for (size_t i = 0; i < receivers.size(); ++i) {
     if (receivers[i] != kActive) continue;
+    ++active;
     const double d = std::abs(static_cast<double>(c.lit[i]) - g.lit[i]);
     differ += d > 1e-6;
     max_abs = std::max(max_abs, d);
@@ -76,6 +85,7 @@ void check(benchmark::State& state, const bench::Fixture& f, const MethodInfo& c
       for (int w = 0; w < c.masks->words_per_pixel(); ++w)
         differ_samples += std::popcount(c.masks->pixel(i)[w] ^ g.masks->pixel(i)[w]);
   }
+  state.counters["active_pixels"] = active;
   state.counters["differ_pixels"] = differ;
   state.counters["max_abs_dv"] = max_abs;
   if (masks) state.counters["differ_samples"] = differ_samples;
@@ -93,13 +103,7 @@ void BM_Vulkan(benchmark::State& state, const std::string& method, const std::st
   const MethodInfo info = b->vulkan_method(cpu_info);
   const MethodOptions opts = resolve_options(info, {});
   f->frame->run(info, opts, false);  // compiles the pipelines
-  std::map<std::string, double> sums;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    for (const auto& [stage, ms] : r.per_light[0].times.stages()) sums[stage] += ms;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  add_stage_means(state, sums);
+  time_runs(state, *f->frame, info, opts);
   check(state, *f, cpu_info, info, opts);
   state.SetLabel(b->context().device_name());
 }
@@ -116,6 +120,48 @@ void raster_args(benchmark::internal::Benchmark* b) {
   for (int size : {128, 256, 1024}) b->Args({size, 16});
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.3);
 }
+
+void BM_RadixSort(benchmark::State& state, gpu::RadixRanking ranking) {
+  gpu::Backend* b = backend();
+  if (!b) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  gpu::VulkanContext& vk = b->context();
+  if (ranking == gpu::RadixRanking::ballot && !vk.has_subgroup_ballot()) {
+    state.SkipWithError("no subgroup ballots");
+    return;
+  }
+  const uint32_t n = 1u << state.range(0);
+  const int bits = static_cast<int>(state.range(1));
+  std::mt19937 rng(7);
+  std::vector<uint32_t> keys(n), vals(n);
+  for (uint32_t i = 0; i < n; ++i) keys[i] = rng() & ((1u << bits) - 1u), vals[i] = i;
+  const gpu::Buffer k = vk.upload(keys), v = vk.upload(vals);
+  const gpu::Buffer kt(vk, n * 4, gpu::Memory::device), vt(vk, n * 4, gpu::Memory::device);
+  double gpu_ms = 0.0;
+  for (auto _ : state) {
+    std::deque<gpu::Buffer> scratch;
+    gpu::CommandList cl(vk);
+    // Sorting sorted data costs the same: the passes do not look at the order.
+    gpu::record_radix_sort(b->programs(), cl, k, v, kt, vt, n, bits, scratch, ranking);
+    cl.mark("sort");
+    StageTimes times;
+    cl.submit(&times);
+    gpu_ms += times.get("gpu_sort");
+  }
+  state.counters["gpu_ms"] = gpu_ms / static_cast<double>(state.iterations());
+  state.counters["pairs"] = n;
+}
+
+BENCHMARK_CAPTURE(BM_RadixSort, ballot, gpu::RadixRanking::ballot)
+    ->Args({20, 16})
+    ->Args({20, 24})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RadixSort, compare, gpu::RadixRanking::compare)
+    ->Args({20, 16})
+    ->Args({20, 24})
+    ->Unit(benchmark::kMillisecond);
 
 #define PENUMBRA_GPU_BENCH(method, scene, args)                                             \
   BENCHMARK_CAPTURE(BM_Cpu, method##_##scene, std::string(#method), std::string(#scene))    \

@@ -62,7 +62,13 @@ class Image2D {
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
                    VkImageLayout from, VkImageLayout to);
 
-/// Sets a viewport and scissor covering a width × height target.
-void set_viewport(VkCommandBuffer cmd, int width, int height);
+/// Starts dynamic rendering into `color` (R32, cleared to `clear`) and optionally `depth` (D32,
+/// cleared to `depth_clear`), both width × height and moved to attachment layout first; viewport
+/// and scissor cover the target, front faces are counter-clockwise, nothing is culled.
+void begin_rendering(VkCommandBuffer cmd, const Image2D& color, float clear, const Image2D* depth,
+                     float depth_clear, int width, int height);
+/// Ends rendering and copies `color` (width × height, 4-byte texels) into `dst`, row-major.
+void end_rendering_into(VkCommandBuffer cmd, const Image2D& color, int width, int height,
+                        const Buffer& dst);
 
 }  // namespace penumbra::gpu

@@ -231,36 +231,14 @@ class ShadowVolumeVk final : public ShadowMethod {
   void record_count(VkCommandBuffer cmd, const Image2D& target, const Buffer& faces,
                     const Buffer& q, int width, int height, uint32_t n, const Buffer& counts) {
     const GraphicsPipeline& pipe = backend_.volume_pipeline();
-    image_barrier(cmd, target.image(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    VkRenderingAttachmentInfo ca{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    ca.imageView = target.view();
-    ca.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    ca.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    ca.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    ca.clearValue.color.float32[0] = 0.0f;
-    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    ri.renderArea = {{0, 0}, {static_cast<uint32_t>(width), static_cast<uint32_t>(height)}};
-    ri.layerCount = 1;
-    ri.colorAttachmentCount = 1;
-    ri.pColorAttachments = &ca;
-    vkCmdBeginRendering(cmd, &ri);
-    set_viewport(cmd, width, height);
-    vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
-    vkCmdSetCullMode(cmd, VK_CULL_MODE_NONE);  // orientation is the weight's sign, not the winding
+    // Orientation is the weight's sign, not the winding: nothing is culled.
+    begin_rendering(cmd, target, 0.0f, nullptr, 0.0f, width, height);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe.handle());
     const DrawPush push{
         faces.address(), q.address(), {static_cast<float>(width), static_cast<float>(height)}};
     vkCmdPushConstants(cmd, pipe.layout(), kGraphicsPushStages, 0, sizeof(push), &push);
     vkCmdDraw(cmd, n * 6, 1, 0, 0);
-    vkCmdEndRendering(cmd);
-    image_barrier(cmd, target.image(), VK_IMAGE_ASPECT_COLOR_BIT,
-                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {static_cast<uint32_t>(width), static_cast<uint32_t>(height), 1};
-    vkCmdCopyImageToBuffer(cmd, target.image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           counts.handle(), 1, &copy);
+    end_rendering_into(cmd, target, width, height, counts);
   }
 
   Backend& backend_;
