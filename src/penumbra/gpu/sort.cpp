@@ -47,9 +47,11 @@ bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
                        uint32_t n, int key_bits, std::deque<Buffer>& scratch,
                        RadixRanking ranking) {
   if (n == 0) return true;
-  const bool ballot = ranking == RadixRanking::ballot ||
-                      (ranking == RadixRanking::best && programs.context().has_subgroup_ballot());
-  if (ballot && !programs.context().has_subgroup_ballot())
+  const VulkanContext& vk = programs.context();
+  const bool ballot =
+      ranking == RadixRanking::ballot ||
+      (ranking == RadixRanking::best && vk.has_subgroup_ballot() && vk.subgroup_size() >= 16);
+  if (ballot && !vk.has_subgroup_ballot())
     throw Error("vulkan: the device has no subgroup ballots for the radix sort");
   const ComputePipeline& scatter =
       programs.get(ballot ? Shader::radix_scatter : Shader::radix_scatter_compare);
