@@ -79,9 +79,12 @@ TEST(VulkanDepthMaps, PcssMatchesCpu) {
   // The default map (2048²) and coarser ones. (With hardware coverage, 512² on `quad` had 0.6 % of
   // the pixels differ by one PCF tap: four edge texels of 262144 changed coverage and the wide
   // blocker search saw them.)
-  for (const char* scene : {"quad", "spheres", "fence"})
-    for (const char* r : {"512", "1024", "2048"})
-      compare(backend, scene, "pcss", {{"resolution", r}});
+  const std::pair<const char*, const char*> cases[] = {{"quad", "512"},
+                                                       {"spheres", "512"},
+                                                       {"spheres", "1024"},
+                                                       {"spheres", "2048"},
+                                                       {"fence", "512"}};
+  for (const auto& [scene, r] : cases) compare(backend, scene, "pcss", {{"resolution", r}});
 }
 
 /// Texels of the 512² map of each built-in scene that differ from the CPU's render_depth_map, drawn

@@ -71,6 +71,16 @@ TEST(VulkanShadowVolume, DiskLightCentre) {
   compare(backend, make_test_frame(std::move(scene), 64, 64, LightSampleSpec{}), "disk light");
 }
 
+/// The camera inside the occluder's shadow volume, under the quad: its side quads and caps cross
+/// the near plane (clipped as on the CPU) and z-fail needs no count at the eye.
+TEST(VulkanShadowVolume, CameraInsideTheVolume) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  Scene scene = make_builtin_scene("quad");
+  scene.camera.position = Vec3(0.05f, 0.3f, 0.1f);
+  scene.camera.target = Vec3(1.2f, 0.0f, 1.5f);
+  compare(backend, make_test_frame(std::move(scene), 64, 64, LightSampleSpec{}), "camera inside");
+}
+
 TEST(VulkanShadowVolume, ReportsGpuStageTimes) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   const test::TestFrame t = make_test_frame("spheres", 32, 32, LightSampleSpec{});
