@@ -6,19 +6,6 @@
 
 namespace penumbra::gpu {
 
-namespace {
-
-VkShaderModule make_module(VkDevice device, std::span<const uint32_t> code) {
-  VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  si.codeSize = code.size_bytes();
-  si.pCode = code.data();
-  VkShaderModule m = VK_NULL_HANDLE;
-  check(vkCreateShaderModule(device, &si, nullptr, &m), "vkCreateShaderModule");
-  return m;
-}
-
-}  // namespace
-
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
                    VkImageLayout from, VkImageLayout to) {
   VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
@@ -86,15 +73,9 @@ void end_rendering_into(VkCommandBuffer cmd, const Image2D& color, int width, in
 }
 
 GraphicsPipeline::GraphicsPipeline(VulkanContext& ctx, const GraphicsDesc& desc)
-    : device_(ctx.device()) {
-  const VkPushConstantRange range{kGraphicsPushStages, 0, desc.push_bytes};
-  VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  li.pushConstantRangeCount = 1;
-  li.pPushConstantRanges = &range;
-  check(vkCreatePipelineLayout(device_, &li, nullptr, &layout_), "vkCreatePipelineLayout");
-
-  VkShaderModule vert = make_module(device_, spirv(desc.vert));
-  VkShaderModule frag = make_module(device_, spirv(desc.frag));
+    : Pipeline(ctx.device(), kGraphicsPushStages, desc.push_bytes) {
+  VkShaderModule vert = module(spirv(desc.vert));
+  VkShaderModule frag = module(spirv(desc.frag));
   VkPipelineShaderStageCreateInfo stages[2] = {
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
       {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
@@ -162,15 +143,7 @@ GraphicsPipeline::GraphicsPipeline(VulkanContext& ctx, const GraphicsDesc& desc)
       vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &gi, nullptr, &pipeline_);
   vkDestroyShaderModule(device_, vert, nullptr);
   vkDestroyShaderModule(device_, frag, nullptr);
-  if (r != VK_SUCCESS) {
-    vkDestroyPipelineLayout(device_, layout_, nullptr);
-    check(r, "graphics pipeline creation");
-  }
-}
-
-GraphicsPipeline::~GraphicsPipeline() {
-  vkDestroyPipeline(device_, pipeline_, nullptr);
-  vkDestroyPipelineLayout(device_, layout_, nullptr);
+  check(r, "graphics pipeline creation");
 }
 
 Image2D::Image2D(VulkanContext& ctx, int width, int height, VkFormat format,

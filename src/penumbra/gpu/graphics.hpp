@@ -6,6 +6,7 @@
 
 #include <cstdint>
 
+#include "penumbra/gpu/commands.hpp"
 #include "penumbra/gpu/context.hpp"
 #include "penumbra/gpu/shaders.hpp"
 
@@ -25,19 +26,9 @@ struct GraphicsDesc {
 };
 
 /// Viewport, scissor, cull mode and front face are dynamic.
-class GraphicsPipeline {
+class GraphicsPipeline : public Pipeline {
  public:
   GraphicsPipeline(VulkanContext& ctx, const GraphicsDesc& desc);
-  ~GraphicsPipeline();
-  GraphicsPipeline(const GraphicsPipeline&) = delete;
-  GraphicsPipeline& operator=(const GraphicsPipeline&) = delete;
-  VkPipeline handle() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
-
- private:
-  VkDevice device_;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
 /// A device image with its memory and view. Move-only.
