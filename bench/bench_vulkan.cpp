@@ -178,6 +178,10 @@ PENUMBRA_GPU_BENCH(pcss, bunny, raster_args);
 PENUMBRA_GPU_BENCH(pcss, dragon, raster_args);
 PENUMBRA_GPU_BENCH(shadow_volume, bunny, raster_args);
 PENUMBRA_GPU_BENCH(shadow_volume, dragon, raster_args);
+// Built in: the benchmark of a machine without the models.
+PENUMBRA_GPU_BENCH(shadow_map, spheres, raster_args);
+PENUMBRA_GPU_BENCH(pcss, spheres, raster_args);
+PENUMBRA_GPU_BENCH(shadow_volume, spheres, raster_args);
 
 }  // namespace
 }  // namespace penumbra

@@ -21,29 +21,32 @@ if ! command -v glslc >/dev/null || [ ! -f /usr/include/vulkan/vulkan.h ]; then 
 scripts/build.sh release --target penumbra_cli bench_vulkan test_vulkan_compute \
   test_vulkan_depth_maps test_vulkan_gears test_vulkan_shadow_volume
 for t in compute depth_maps gears shadow_volume; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
-ls ~/.cache/penumbra/models/bunny00.off >/dev/null 2>&1 || scripts/fetch-models.sh >/dev/null
+# bunny and dragon (scripts/fetch-models.sh); without them (an offline machine) the built-in spheres.
+scenes="bunny|dragon"
+models="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
+[ -f "$models/bunny00.off" ] || scripts/fetch-models.sh >/dev/null || scenes=spheres
 
 device=$(build/release/penumbra render --scene quad --size 16x16 --method shadow_map --backend vulkan \
   --out "$out/probe" 2>&1 >/dev/null | sed -n 's/^vulkan device: //p')
 mode="${PENUMBRA_GPU_BENCH:-$([[ "$device" == llvmpipe* ]] && echo quick || echo full)}"
 if [ "$mode" = full ]; then t1="512|1024|1280" t2=1024 t5=512 r=1024; else t1="128|256" t2=256 t5=128 r=256; fi
 echo "device: $device; mode: $mode; load: $(cut -d' ' -f1-3 /proc/loadavg)"
-filter="^BM_(Cpu|Vulkan)/(gears_(bunny|dragon)/($t1|$t2)/16|gears_(bunny|dragon)/$t5/(4|8|16|32)"
-filter+="|(shadow_map|pcss|shadow_volume)_(bunny|dragon)/$r/16)/|^BM_RadixSort/"
+filter="^BM_(Cpu|Vulkan)/(gears_($scenes)/($t1|$t2)/16|gears_($scenes)/$t5/(4|8|16|32)"
+filter+="|(shadow_map|pcss|shadow_volume)_($scenes)/$r/16)/|^BM_RadixSort/"
 build/release/bench/bench_vulkan --benchmark_filter="$filter" --benchmark_out="$out/bench.json" \
   --benchmark_out_format=json >/dev/null
 
-python3 - "$out" "$t1" "$t2" "$t5" "$r" "$device" <<'PY' | tee "$out/tables.md"
+python3 - "$out" "$t1" "$t2" "$t5" "$r" "$device" "$scenes" <<'PY' | tee "$out/tables.md"
 import json, pathlib, re, sys
-out, t1, t2, t5, r, device = sys.argv[1:]
+out, t1, t2, t5, r, device, scene_list = sys.argv[1:]
 runs, sorts = {}, []
 for b in json.loads((pathlib.Path(out) / "bench.json").read_text())["benchmarks"]:
     if b["name"].startswith("BM_RadixSort/") and not b.get("error_occurred"):
         sorts.append(b)
-    m = re.match(r"BM_(Cpu|Vulkan)/(\w+?)_(bunny|dragon)/(\d+)/(\d+)/", b["name"])
+    m = re.match(r"BM_(Cpu|Vulkan)/(\w+?)_(bunny|dragon|spheres)/(\d+)/(\d+)/", b["name"])
     if m and not b.get("error_occurred"):
         runs[(m[1], m[2], m[3], int(m[4]), int(m[5]))] = b
-scenes = ("bunny", "dragon")
+scenes = scene_list.split("|")
 def get(backend, method, scene, size, k):
     return runs.get((backend, method, scene, size, k))
 def ms(b):
