@@ -49,9 +49,8 @@ bool record_radix_sort(Programs& programs, CommandList& cl, const Buffer& keys,
                        RadixRanking ranking) {
   if (n == 0) return true;
   const VulkanContext& vk = programs.context();
-  const bool ballot =
-      ranking == RadixRanking::ballot ||
-      (ranking == RadixRanking::best && vk.has_subgroup_ballot() && vk.subgroup_size() >= 16);
+  const bool ballot = ranking == RadixRanking::ballot ||
+                      (ranking == RadixRanking::best && vk.has_subgroup_ballot());
   if (ballot && !vk.has_subgroup_ballot())
     throw Error("vulkan: the device has no subgroup ballots for the radix sort");
   const ComputePipeline& scatter =
