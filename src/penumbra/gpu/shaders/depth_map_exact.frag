@@ -33,7 +33,8 @@ bool covers(dvec3 a0, dvec3 b0, dvec3 c0, double px, double py, out double inv_w
     if (!(w[i] > 0.0 || (w[i] == 0.0 && owns))) return false;
   }
   precise const double inv_area = 1.0 / abs(area);
-  inv_w = (w[0] * v[0].z + w[1] * v[1].z + w[2] * v[2].z) * inv_area;
+  precise const double interpolated = (w[0] * v[0].z + w[1] * v[1].z + w[2] * v[2].z) * inv_area;
+  inv_w = interpolated;
   return true;
 }
 
@@ -49,7 +50,8 @@ void main() {
                 py, inv_w) ||
         !(inv_w > 0.0))
       continue;
-    depth = min(depth, float(1.0 / inv_w));
+    precise const double d = 1.0 / inv_w;
+    depth = min(depth, float(d));
     hit = true;
   }
   if (!hit) discard;

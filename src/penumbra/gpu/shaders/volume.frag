@@ -24,7 +24,7 @@ void main() {
   VolumeFaces faces = pc.faces;
   const int n = faces.f[face].n, own = faces.f[face].own;
   for (int e = 0; e < n; ++e) {
-    const double d = dot3(faces.f[face].edge[e], q);
+    precise const double d = dot3(faces.f[face].edge[e], q);
     if (d < 0.0 || (d == 0.0 && ((own >> e) & 1) == 0)) discard;
   }
   if (faces.f[face].has_plane != 0) {
