@@ -83,8 +83,18 @@ void check_radix_sort(gpu::Backend& backend, gpu::RadixRanking ranking) {
 
 TEST(VulkanCompute, RadixSortIsStableAndMatchesStd) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  if (!backend.context().has_subgroup_ballot()) GTEST_SKIP() << "no subgroup ballots";
-  check_radix_sort(backend, gpu::RadixRanking::ballot);
+  if (backend.context().has_subgroup_ballot()) {
+    check_radix_sort(backend, gpu::RadixRanking::ballot);
+    return;
+  }
+  // Without ballots the ballot ranking is refused (best falls back to compare).
+  gpu::VulkanContext& vk = backend.context();
+  const gpu::Buffer b(vk, 1024, gpu::Memory::device);
+  std::deque<gpu::Buffer> scratch;
+  gpu::CommandList cl(vk);
+  EXPECT_THROW(gpu::record_radix_sort(backend.programs(), cl, b, b, b, b, 256, 8, scratch,
+                                      gpu::RadixRanking::ballot),
+               Error);
 }
 
 TEST(VulkanCompute, RadixSortFallbackIsStableAndMatchesStd) {

@@ -26,7 +26,7 @@ struct Agreement {
 
 // Measured on lavapipe with the exact depth pass: 0 pixels differ in every case below. The bounds
 // leave room for a rounding tie or two (an FMA the host compiler contracts in the CPU rasterizer),
-// ten times inside the (0.5 % of pixels, mean |ΔV| 1e-3).
+// ten times inside the backend's documented bound (0.5 % of pixels, mean |ΔV| 1e-3; docs/gpu.md).
 constexpr double kMaxDifferFraction = 5e-4;
 constexpr double kMaxMeanAbs = 1e-4;
 
@@ -129,12 +129,14 @@ std::vector<size_t> depth_map_differences(gpu::VulkanContext& vk, gpu::DepthPipe
 }
 
 /// The exact pass: the CPU's map texel for texel (measured: 0 differ on each scene and face set).
+/// A device without shaderFloat64 draws the hardware pass, bounded below.
 TEST(VulkanDepthMaps, DepthMapEqualsCpu) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  if (!backend.depth_pipeline().exact()) GTEST_SKIP() << "no shaderFloat64: hardware coverage";
+  gpu::DepthPipeline& pipe = backend.depth_pipeline();
+  EXPECT_EQ(pipe.exact(), backend.context().has_float64());
   for (FaceSelect faces : {FaceSelect::front, FaceSelect::both})
-    for (size_t differ : depth_map_differences(backend.context(), backend.depth_pipeline(), faces))
-      EXPECT_EQ(differ, 0u);
+    for (size_t differ : depth_map_differences(backend.context(), pipe, faces))
+      EXPECT_LE(differ, pipe.exact() ? 0u : 4u);
 }
 
 /// The fallback of devices without shaderFloat64: hardware coverage differs from the CPU only at
