@@ -325,7 +325,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     f.features.shaderInt64 = VK_TRUE;
     VkPhysicalDeviceFeatures have;
     vkGetPhysicalDeviceFeatures(physical_, &have);
-    // Optional: the depth-map lookups run in the CPU's double precision where it is available.
+    // Optional: the exact depth pass, the depth-map lookups and shadow_volume run in the CPU's
+    // double precision where it is available.
     f.features.shaderFloat64 = have.shaderFloat64;
     float64_ = have.shaderFloat64 == VK_TRUE;
     f.pNext = &f12;
