@@ -52,12 +52,12 @@ TEST(VulkanCompute, PrefixSumMatchesStd) {
   EXPECT_EQ(vk.validation_messages(), 0u);
 }
 
-TEST(VulkanCompute, RadixSortIsStableAndMatchesStd) {
-  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+/// Both block rankings: subgroup ballots (linear) and byte compares (the fallback).
+void check_radix_sort(gpu::Backend& backend, gpu::RadixRanking ranking) {
   gpu::VulkanContext& vk = backend.context();
   std::mt19937 rng(5);
   for (int bits : {7, 14, 22}) {
-    const uint32_t n = 70001;
+    const uint32_t n = 70001;  // a partial last block
     std::vector<uint32_t> keys(n), vals(n);
     // Few distinct keys at 7 bits: long runs of equal keys test stability.
     for (uint32_t i = 0; i < n; ++i) keys[i] = rng() & ((1u << bits) - 1u), vals[i] = i;
@@ -66,7 +66,7 @@ TEST(VulkanCompute, RadixSortIsStableAndMatchesStd) {
     std::deque<gpu::Buffer> scratch;
     gpu::CommandList cl(vk);
     const bool in_place =
-        gpu::record_radix_sort(backend.programs(), cl, k, v, kt, vt, n, bits, scratch);
+        gpu::record_radix_sort(backend.programs(), cl, k, v, kt, vt, n, bits, scratch, ranking);
     cl.submit();
     EXPECT_EQ(in_place, ((bits + 7) / 8) % 2 == 0);
     std::vector<uint32_t> order(n);
@@ -79,6 +79,27 @@ TEST(VulkanCompute, RadixSortIsStableAndMatchesStd) {
     EXPECT_EQ(vk.download<uint32_t>(in_place ? v : vt, n), order) << bits << " bits (stability)";
   }
   EXPECT_EQ(vk.validation_messages(), 0u);
+}
+
+TEST(VulkanCompute, RadixSortIsStableAndMatchesStd) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  if (backend.context().has_subgroup_ballot()) {
+    check_radix_sort(backend, gpu::RadixRanking::ballot);
+    return;
+  }
+  // Without ballots the ballot ranking is refused (best falls back to compare).
+  gpu::VulkanContext& vk = backend.context();
+  const gpu::Buffer b(vk, 1024, gpu::Memory::device);
+  std::deque<gpu::Buffer> scratch;
+  gpu::CommandList cl(vk);
+  EXPECT_THROW(gpu::record_radix_sort(backend.programs(), cl, b, b, b, b, 256, 8, scratch,
+                                      gpu::RadixRanking::ballot),
+               Error);
+}
+
+TEST(VulkanCompute, RadixSortFallbackIsStableAndMatchesStd) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  check_radix_sort(backend, gpu::RadixRanking::compare);
 }
 
 TEST(VulkanCompute, DeviceSelection) {

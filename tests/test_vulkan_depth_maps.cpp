@@ -1,7 +1,7 @@
 // `shadow_map` and `pcss` on Vulkan against the CPU methods on the same frame: the depth map from
-// the graphics pipeline, the lookup in a compute shader. They may differ only where the two
-// rasterizers disagree (float vs double vertex arithmetic at caster edges) or where a depth
-// comparison is within float rounding (docs/gpu.md).
+// the graphics pipeline, the lookup in a compute shader. With shaderFloat64 (lavapipe, NVIDIA) the
+// depth pass applies the CPU rasterizer's coverage and depth in double, so maps and visibilities
+// are equal; the hardware-coverage fallback differs only at caster-edge texels (docs/gpu.md).
 #include <gtest/gtest.h>
 
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -23,6 +23,12 @@ struct Agreement {
   double mean_abs = 0.0;
   double shadowed_fraction = 0.0;  // of active pixels, V < 1 on the CPU (the test has shadows)
 };
+
+// Measured on lavapipe with the exact depth pass: 0 pixels differ in every case below. The bounds
+// leave room for a rounding tie or two (an FMA the host compiler contracts in the CPU rasterizer),
+// ten times inside the backend's documented bound (0.5 % of pixels, mean |ΔV| 1e-3; docs/gpu.md).
+constexpr double kMaxDifferFraction = 5e-4;
+constexpr double kMaxMeanAbs = 1e-4;
 
 Agreement compare(gpu::Backend& backend, const char* scene, const char* method,
                   const std::map<std::string, std::string>& options, int size = 96) {
@@ -48,8 +54,8 @@ Agreement compare(gpu::Backend& backend, const char* scene, const char* method,
               scene, active, 100.0 * a.shadowed_fraction, differ, 100.0 * a.differ_fraction,
               a.mean_abs);
   EXPECT_GT(a.shadowed_fraction, 0.02) << "the comparison needs shadows";
-  EXPECT_LE(a.differ_fraction, 0.005);
-  EXPECT_LE(a.mean_abs, 1e-3);
+  EXPECT_LE(a.differ_fraction, kMaxDifferFraction);
+  EXPECT_LE(a.mean_abs, kMaxMeanAbs);
   EXPECT_EQ(backend.context().validation_messages(), 0u);
   return a;
 }
@@ -70,18 +76,22 @@ TEST(VulkanDepthMaps, ShadowMapPcfAndFaceSelectionMatchCpu) {
 
 TEST(VulkanDepthMaps, PcssMatchesCpu) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  // The default map (2048²) and a coarser one. (At 512² on `quad` 0.6 % of the pixels differ, by
-  // one PCF tap: four texels of 262144 change coverage at a caster edge and the wide blocker
-  // search sees them; docs/gpu.md.)
-  for (const char* scene : {"quad", "spheres"})
-    for (const char* r : {"1024", "2048"}) compare(backend, scene, "pcss", {{"resolution", r}});
+  // The default map (2048²) and coarser ones. (With hardware coverage, 512² on `quad` had 0.6 % of
+  // the pixels differ by one PCF tap: four edge texels of 262144 changed coverage and the wide
+  // blocker search saw them.)
+  const std::pair<const char*, const char*> cases[] = {{"quad", "512"},
+                                                       {"spheres", "512"},
+                                                       {"spheres", "1024"},
+                                                       {"spheres", "2048"},
+                                                       {"fence", "512"}};
+  for (const auto& [scene, r] : cases) compare(backend, scene, "pcss", {{"resolution", r}});
 }
 
-/// The maps themselves: equal to the float except where the two rasterizers' coverage differs at a
-/// caster edge (Vulkan snaps vertices to its sub-texel grid, the CPU rasterizes in double).
-TEST(VulkanDepthMaps, DepthMapEqualsCpuExceptAtEdges) {
-  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  gpu::VulkanContext& vk = backend.context();
+/// Texels of the 512² map of each built-in scene that differ from the CPU's render_depth_map, drawn
+/// by `pipe`.
+std::vector<size_t> depth_map_differences(gpu::VulkanContext& vk, gpu::DepthPipeline& pipe,
+                                          FaceSelect faces = FaceSelect::front) {
+  std::vector<size_t> out;
   for (const char* name : {"quad", "spheres", "fence"}) {
     const test::TestFrame t = make_test_frame(name, 64, 64, LightSampleSpec{});
     std::vector<Vec3> cover;
@@ -89,13 +99,14 @@ TEST(VulkanDepthMaps, DepthMapEqualsCpuExceptAtEdges) {
       if (t.frame->receivers(0)[i] == kActive) cover.push_back(t.frame->gbuffer().shadow_origin(i));
     DepthMapSpec spec;
     spec.resolution = 512;
+    spec.faces = faces;
     const Vec3 eye = hard_shadow_point(t.scene->lights[0]);
     const DepthMap cpu = render_depth_map(*t.scene, eye, cover, spec);
     std::deque<gpu::Buffer> keep;
     std::deque<gpu::Image2D> images;
     gpu::CommandList cl(vk);
-    const gpu::GpuDepthMap map = gpu::record_depth_map(vk, backend.depth_pipeline(), cl, *t.scene,
-                                                       eye, cover, spec, keep, images);
+    const gpu::GpuDepthMap map =
+        gpu::record_depth_map(vk, pipe, cl, *t.scene, eye, cover, spec, keep, images);
     cl.submit();
     const std::vector<float> gpu_depth = vk.download<float>(map.depth, 512 * 512);
     size_t covered = 0, differ = 0;
@@ -103,13 +114,40 @@ TEST(VulkanDepthMaps, DepthMapEqualsCpuExceptAtEdges) {
       const float c = cpu.depth.pixels()[i];
       const float g = gpu_depth[i] >= gpu::kEmptyDepth ? kInfinity : gpu_depth[i];
       covered += c < kInfinity;
-      differ += c != g;
+      // Exact pass: bit-equal. Hardware pass: its float interpolation of the view depth is within
+      // 1e-5 relative, so count coverage changes and larger depth differences.
+      differ +=
+          pipe.exact() ? c != g : (c < kInfinity) != (g < kInfinity) || std::abs(c - g) > 1e-5f * c;
     }
-    std::printf("%s: %zu covered texels, %zu differ\n", name, covered, differ);
+    std::printf("%s (%s): %zu covered texels, %zu differ\n", name,
+                pipe.exact() ? "exact" : "hardware", covered, differ);
     EXPECT_GT(covered, 5000u);
-    // Measured: 2, 5 and 0 texels.
-    EXPECT_LE(differ, 8u);
+    out.push_back(differ);
   }
+  EXPECT_EQ(vk.validation_messages(), 0u);
+  return out;
+}
+
+/// The exact pass: the CPU's map texel for texel (measured: 0 differ on each scene and face set).
+/// A device without shaderFloat64 draws the hardware pass, bounded below.
+TEST(VulkanDepthMaps, DepthMapEqualsCpu) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  gpu::DepthPipeline& pipe = backend.depth_pipeline();
+  EXPECT_EQ(pipe.exact(), backend.context().has_float64());
+  for (FaceSelect faces : {FaceSelect::front, FaceSelect::both})
+    for (size_t differ : depth_map_differences(backend.context(), pipe, faces))
+      EXPECT_LE(differ, pipe.exact() ? 0u : 4u);
+}
+
+/// The fallback of devices without shaderFloat64: hardware coverage differs from the CPU only at
+/// a few caster-edge texels (Vulkan snaps vertices to its sub-texel grid, 8 bits on lavapipe;
+/// measured 0, 1 and 0 texels of 262144, depth within 1e-5 relative elsewhere).
+TEST(VulkanDepthMaps, HardwareCoverageDiffersOnlyAtEdges) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  gpu::DepthPipeline hardware(backend.context(), false);
+  size_t total = 0;
+  for (size_t differ : depth_map_differences(backend.context(), hardware)) total += differ;
+  EXPECT_LE(total, 4u);
 }
 
 TEST(VulkanDepthMaps, ReportsGpuStageTimes) {

@@ -4,6 +4,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/depth_pass.hpp"
+#include "penumbra/gpu/graphics.hpp"
 
 namespace penumbra::gpu {
 
@@ -14,12 +15,28 @@ Backend::Backend(const ContextOptions& options)
 Backend::~Backend() = default;
 
 DepthPipeline& Backend::depth_pipeline() {
-  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_);
+  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64());
   return *depth_;
 }
 
+const GraphicsPipeline& Backend::volume_pipeline() {
+  if (!volume_) {
+    // Its setup and per-pixel tests are the CPU's, in double.
+    if (!ctx_->has_float64())
+      throw Error("shadow_volume on Vulkan needs shaderFloat64, which " + ctx_->device_name() +
+                  " lacks");
+    GraphicsDesc d;
+    d.vert = Shader::volume_vert;
+    d.frag = Shader::volume_frag;
+    d.push_bytes = 24;
+    d.blend_add = true;
+    volume_ = std::make_unique<GraphicsPipeline>(*ctx_, d);
+  }
+  return *volume_;
+}
+
 const std::vector<std::string>& Backend::methods() {
-  static const std::vector<std::string> names = {"gears", "shadow_map", "pcss"};
+  static const std::vector<std::string> names = {"gears", "shadow_map", "pcss", "shadow_volume"};
   return names;
 }
 
@@ -36,6 +53,8 @@ MethodInfo Backend::vulkan_method(const MethodInfo& info) {
     out.create = [this](const MethodOptions& o) { return create_shadow_map_vk(*this, o); };
   } else if (info.name == "pcss") {
     out.create = [this](const MethodOptions& o) { return create_pcss_vk(*this, o); };
+  } else if (info.name == "shadow_volume") {
+    out.create = [this](const MethodOptions& o) { return create_shadow_volume_vk(*this, o); };
   } else {
     std::string list;
     for (const std::string& n : methods()) list += (list.empty() ? "" : ", ") + n;

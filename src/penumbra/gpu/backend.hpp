@@ -1,6 +1,7 @@
 // The Vulkan backend: one device and its pipelines per process, and the methods that have a
-// Vulkan path (gears, shadow_map, pcss). A GPU method is the CPU method's MethodInfo with create()
-// bound to the device, so Frame::run, the comparisons and every metric use it unchanged.
+// Vulkan path (gears, shadow_map, pcss, shadow_volume). A GPU method is the CPU method's MethodInfo
+// with create() bound to the device, so Frame::run, the comparisons and every metric use it
+// unchanged.
 #pragma once
 
 #include <memory>
@@ -15,6 +16,7 @@
 namespace penumbra::gpu {
 
 class DepthPipeline;
+class GraphicsPipeline;
 
 class Backend {
  public:
@@ -25,6 +27,8 @@ class Backend {
   VulkanContext& context() { return *ctx_; }
   Programs& programs() { return *programs_; }
   DepthPipeline& depth_pipeline();
+  /// The shadow-volume counting pipeline (volume.vert/.frag, additive R32F).
+  const GraphicsPipeline& volume_pipeline();
 
   /// Methods with a Vulkan implementation, in registry order.
   static const std::vector<std::string>& methods();
@@ -37,11 +41,14 @@ class Backend {
   std::unique_ptr<VulkanContext> ctx_;
   std::unique_ptr<Programs> programs_;
   std::unique_ptr<DepthPipeline> depth_;
+  std::unique_ptr<GraphicsPipeline> volume_;
 };
 
 // Factories of the Vulkan methods (gpu/<method>_vk.cpp).
 std::unique_ptr<ShadowMethod> create_gears_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_shadow_map_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_pcss_vk(Backend& backend, const MethodOptions& options);
+std::unique_ptr<ShadowMethod> create_shadow_volume_vk(Backend& backend,
+                                                      const MethodOptions& options);
 
 }  // namespace penumbra::gpu

@@ -11,37 +11,41 @@ constexpr uint32_t kMaxStages = 127;  // timestamps per command list: one more t
 constexpr uint32_t kMaxGroupsX = 32768;
 }  // namespace
 
-ComputePipeline::ComputePipeline(VulkanContext& ctx, std::span<const uint32_t> spirv)
-    : device_(ctx.device()) {
-  VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  si.codeSize = spirv.size_bytes();
-  si.pCode = spirv.data();
-  VkShaderModule module = VK_NULL_HANDLE;
-  check(vkCreateShaderModule(device_, &si, nullptr, &module), "vkCreateShaderModule");
-  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushBytes};
+Pipeline::Pipeline(VkDevice device, VkShaderStageFlags push_stages, uint32_t push_bytes)
+    : device_(device) {
+  const VkPushConstantRange range{push_stages, 0, push_bytes};
   VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   li.pushConstantRangeCount = 1;
   li.pPushConstantRanges = &range;
-  VkResult r = vkCreatePipelineLayout(device_, &li, nullptr, &layout_);
-  if (r == VK_SUCCESS) {
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module;
-    ci.stage.pName = "main";
-    ci.layout = layout_;
-    r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_);
-  }
-  vkDestroyShaderModule(device_, module, nullptr);
-  if (r != VK_SUCCESS) {
-    if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
-    check(r, "compute pipeline creation");
-  }
+  check(vkCreatePipelineLayout(device_, &li, nullptr, &layout_), "vkCreatePipelineLayout");
 }
 
-ComputePipeline::~ComputePipeline() {
+Pipeline::~Pipeline() {
   vkDestroyPipeline(device_, pipeline_, nullptr);
   vkDestroyPipelineLayout(device_, layout_, nullptr);
+}
+
+VkShaderModule Pipeline::module(std::span<const uint32_t> spirv) const {
+  VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  si.codeSize = spirv.size_bytes();
+  si.pCode = spirv.data();
+  VkShaderModule m = VK_NULL_HANDLE;
+  check(vkCreateShaderModule(device_, &si, nullptr, &m), "vkCreateShaderModule");
+  return m;
+}
+
+ComputePipeline::ComputePipeline(VulkanContext& ctx, std::span<const uint32_t> spirv)
+    : Pipeline(ctx.device(), VK_SHADER_STAGE_COMPUTE_BIT, kPushBytes) {
+  VkShaderModule m = module(spirv);
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  ci.stage.module = m;
+  ci.stage.pName = "main";
+  ci.layout = layout_;
+  const VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_);
+  vkDestroyShaderModule(device_, m, nullptr);
+  check(r, "compute pipeline creation");
 }
 
 CommandList::CommandList(VulkanContext& ctx) : ctx_(ctx) {

@@ -18,20 +18,29 @@ inline constexpr uint32_t kGroupSize = 256;
 /// Push constants: at most 128 bytes (the minimum every Vulkan device guarantees).
 inline constexpr uint32_t kPushBytes = 128;
 
-class ComputePipeline {
+/// A pipeline with its layout (one push-constant range, no descriptor sets), destroyed together.
+class Pipeline {
  public:
-  ComputePipeline(VulkanContext& ctx, std::span<const uint32_t> spirv);
-  ~ComputePipeline();
-  ComputePipeline(const ComputePipeline&) = delete;
-  ComputePipeline& operator=(const ComputePipeline&) = delete;
-
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
   VkPipeline handle() const { return pipeline_; }
   VkPipelineLayout layout() const { return layout_; }
 
- private:
+ protected:
+  /// Creates the layout; the derived constructor creates pipeline_.
+  Pipeline(VkDevice device, VkShaderStageFlags push_stages, uint32_t push_bytes);
+  ~Pipeline();
+  /// A shader module of `spirv` (the caller destroys it once the pipeline exists).
+  VkShaderModule module(std::span<const uint32_t> spirv) const;
+
   VkDevice device_;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+class ComputePipeline : public Pipeline {
+ public:
+  ComputePipeline(VulkanContext& ctx, std::span<const uint32_t> spirv);
 };
 
 /// One command buffer: record, then submit() once and read the stage times.

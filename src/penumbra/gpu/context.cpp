@@ -279,9 +279,17 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
       if (const char* env = std::getenv("PENUMBRA_VK_DEVICE")) selector = env;
     physical_ = choose_device(devices, selector);
 
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(physical_, &props);
+    VkPhysicalDeviceSubgroupProperties subgroup{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props2.pNext = &subgroup;
+    vkGetPhysicalDeviceProperties2(physical_, &props2);
+    const VkPhysicalDeviceProperties& props = props2.properties;
     info_ = {props.deviceName, type_name(props.deviceType), props.apiVersion};
+    subgroup_size_ = subgroup.subgroupSize;
+    subgroup_ballot_ = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                       (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) &&
+                       subgroup.subgroupSize >= 8 && subgroup.subgroupSize <= 128;
     timestamp_period_ns_ = props.limits.timestampPeriod;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 
@@ -317,7 +325,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     f.features.shaderInt64 = VK_TRUE;
     VkPhysicalDeviceFeatures have;
     vkGetPhysicalDeviceFeatures(physical_, &have);
-    // Optional: the depth-map lookups run in the CPU's double precision where it is available.
+    // Optional: the exact depth pass, the depth-map lookups and shadow_volume run in the CPU's
+    // double precision where it is available.
     f.features.shaderFloat64 = have.shaderFloat64;
     float64_ = have.shaderFloat64 == VK_TRUE;
     f.pNext = &f12;

@@ -84,6 +84,10 @@ class VulkanContext {
   double timestamp_period_ns() const { return timestamp_period_ns_; }
   /// Whether shaders may use double precision (shaderFloat64).
   bool has_float64() const { return float64_; }
+  /// Whether compute shaders have subgroup ballots with 8 to 128 invocations per subgroup (the
+  /// radix sort's linear ranking, radix_scatter.comp).
+  bool has_subgroup_ballot() const { return subgroup_ballot_; }
+  uint32_t subgroup_size() const { return subgroup_size_; }
   /// Validation messages (warnings and errors) reported so far; 0 without the layer.
   uint32_t validation_messages() const { return validation_messages_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -134,6 +138,8 @@ class VulkanContext {
   DeviceInfo info_;
   double timestamp_period_ns_ = 1.0;
   bool float64_ = false;
+  bool subgroup_ballot_ = false;
+  uint32_t subgroup_size_ = 0;
   uint32_t validation_messages_ = 0;
 };
 

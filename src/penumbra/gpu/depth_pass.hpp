@@ -2,55 +2,43 @@
 // square R32F view-depth target (depth-only work: the colour target stores the nearest caster's
 // view depth, the D32 attachment does the test) in the frustum of fit_depth_map_view, then copied
 // into a buffer the lookup shaders read. Same projection, near plane and face selection as the
-// CPU's render_depth_map; the rasterization rule is Vulkan's (sample at the texel centre,
-// top-left rule) — the CPU's too, up to float instead of double vertex arithmetic.
+// CPU's render_depth_map. With shaderFloat64 the pass is exact: a compute setup pass clips and
+// projects each caster in double as the CPU does, the rasterizer only generates candidate texels
+// (the polygon's pixel box) and the fragment shader applies the CPU rasterizer's edge functions,
+// top-left rule and 1/w interpolation — the two maps are equal texel for texel. Without it,
+// hardware coverage (float vertices snapped to the sub-texel grid) may differ at caster edges.
 #pragma once
 
 #include <deque>
+#include <memory>
 
 #include "penumbra/gpu/commands.hpp"
+#include "penumbra/gpu/graphics.hpp"
 #include "penumbra/raster/depth_map.hpp"
 #include "penumbra/scene/scene.hpp"
 
 namespace penumbra::gpu {
 
-/// The graphics pipeline of the depth pass (cull mode set per draw). Where the device has
-/// shaderFloat64 the fragment shader recomputes each texel's depth in double at the texel centre,
-/// as the CPU rasterizer does, so the two maps agree to the float.
+/// The graphics pipeline of the depth pass: the exact pass (depth_exact.glsl, with its setup
+/// compute pipeline) where the device has shaderFloat64, else hardware coverage (cull mode set per
+/// draw).
 class DepthPipeline {
  public:
-  explicit DepthPipeline(VulkanContext& ctx);
+  /// `exact` needs shaderFloat64 (VulkanContext::has_float64).
+  DepthPipeline(VulkanContext& ctx, bool exact);
   ~DepthPipeline();
   DepthPipeline(const DepthPipeline&) = delete;
   DepthPipeline& operator=(const DepthPipeline&) = delete;
-  VkPipeline handle() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
-  /// Depth recomputed in double per texel (depth_map_f64.frag).
-  bool float64() const { return float64_; }
+  VkPipeline handle() const { return graphics_->handle(); }
+  VkPipelineLayout layout() const { return graphics_->layout(); }
+  /// The exact pass (depth_setup.comp + depth_map_exact.*).
+  bool exact() const { return exact_; }
+  const ComputePipeline& setup() const { return *setup_; }
 
  private:
-  VkDevice device_;
-  bool float64_ = false;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
-};
-
-/// A device image with its memory and view. Move-only.
-class Image2D {
- public:
-  Image2D(VulkanContext& ctx, int width, int height, VkFormat format, VkImageUsageFlags usage,
-          VkImageAspectFlags aspect);
-  ~Image2D();
-  Image2D(const Image2D&) = delete;
-  Image2D& operator=(const Image2D&) = delete;
-  VkImage image() const { return image_; }
-  VkImageView view() const { return view_; }
-
- private:
-  VkDevice device_;
-  VkImage image_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkImageView view_ = VK_NULL_HANDLE;
+  bool exact_ = false;
+  std::unique_ptr<GraphicsPipeline> graphics_;
+  std::unique_ptr<ComputePipeline> setup_;
 };
 
 /// Empty texels hold FLT_MAX (the CPU map's +inf: never nearer than a receiver).

@@ -17,6 +17,9 @@ const uint32_t kRadixHist[] = {
 const uint32_t kRadixScatter[] = {
 #include "radix_scatter.comp.inc"
 };
+const uint32_t kRadixScatterCompare[] = {
+#include "radix_scatter_compare.comp.inc"
+};
 const uint32_t kGearsCells[] = {
 #include "gears_cells.comp.inc"
 };
@@ -50,9 +53,23 @@ const uint32_t kDepthMapVert[] = {
 const uint32_t kDepthMapFrag[] = {
 #include "depth_map.frag.inc"
 };
-
-const uint32_t kDepthMapF64Frag[] = {
-#include "depth_map_f64.frag.inc"
+const uint32_t kDepthMapExactVert[] = {
+#include "depth_map_exact.vert.inc"
+};
+const uint32_t kDepthMapExactFrag[] = {
+#include "depth_map_exact.frag.inc"
+};
+const uint32_t kDepthSetup[] = {
+#include "depth_setup.comp.inc"
+};
+const uint32_t kVolumeSetup[] = {
+#include "volume_setup.comp.inc"
+};
+const uint32_t kVolumeVert[] = {
+#include "volume.vert.inc"
+};
+const uint32_t kVolumeFrag[] = {
+#include "volume.frag.inc"
 };
 
 }  // namespace
@@ -67,6 +84,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kRadixHist;
     case Shader::radix_scatter:
       return kRadixScatter;
+    case Shader::radix_scatter_compare:
+      return kRadixScatterCompare;
     case Shader::gears_cells:
       return kGearsCells;
     case Shader::gears_count:
@@ -89,8 +108,18 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDepthMapVert;
     case Shader::depth_map_frag:
       return kDepthMapFrag;
-    case Shader::depth_map_f64_frag:
-      return kDepthMapF64Frag;
+    case Shader::depth_map_exact_vert:
+      return kDepthMapExactVert;
+    case Shader::depth_map_exact_frag:
+      return kDepthMapExactFrag;
+    case Shader::depth_setup:
+      return kDepthSetup;
+    case Shader::volume_setup:
+      return kVolumeSetup;
+    case Shader::volume_vert:
+      return kVolumeVert;
+    case Shader::volume_frag:
+      return kVolumeFrag;
     case Shader::count_:
       break;
   }

@@ -14,6 +14,7 @@ enum class Shader {
   scan_add,
   radix_hist,
   radix_scatter,
+  radix_scatter_compare,
   gears_cells,
   gears_count,
   gears_write,
@@ -25,7 +26,12 @@ enum class Shader {
   shadow_lookup_f64,
   depth_map_vert,
   depth_map_frag,
-  depth_map_f64_frag,
+  depth_map_exact_vert,
+  depth_map_exact_frag,
+  depth_setup,
+  volume_setup,
+  volume_vert,
+  volume_frag,
   count_
 };
 

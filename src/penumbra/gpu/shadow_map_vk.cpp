@@ -42,6 +42,8 @@ struct LookupPush {
   uint32_t n;
 };
 
+constexpr uint32_t kMinTexelsPerThread = 64;  // depth_min.comp's kTexelsPerThread
+
 struct MinPush {
   VkDeviceAddress depth, result;
   uint32_t n;
@@ -105,7 +107,8 @@ class DepthMapVk final : public ShadowMethod {
     cl.barrier();
     if (pcss_) {
       cl.dispatch(backend_.programs().get(Shader::depth_min),
-                  MinPush{map.depth.address(), min_buf.address(), texels}, texels);
+                  MinPush{map.depth.address(), min_buf.address(), texels},
+                  (texels + kMinTexelsPerThread - 1) / kMinTexelsPerThread);
       cl.barrier();
       cl.mark("min_depth");
     }

@@ -1,0 +1,198 @@
+// Google Benchmark: the Vulkan backend against the CPU methods on the same cached frames, in one
+// run (scripts/gpu-bench.sh formats the paper's tables from its JSON).
+//   ./build/release/bench/bench_vulkan --benchmark_filter='gears_bunny/1024/16$'
+// Args: {image size, k (k×k grid samples)}. BM_Cpu/<method>_<scene>: the CPU method, counters =
+// its stage times (ms per frame). BM_Vulkan/<method>_<scene>: the Vulkan method after one untimed
+// run (pipelines are compiled on first use), counters = the GPU stage times from timestamp queries
+// (gpu_*) and the host wall times around them (wall_*), plus the check against the CPU method on
+// the same frame: differ_pixels (|ΔV| > 1e-6) among active_pixels, max_abs_dv and, for gears,
+// differ_samples (per-sample masks). Skipped without a Vulkan device or a fetched model.
+// BM_RadixSort/<ranking>: the GEARS pair sort alone (gpu/sort.hpp), its two block rankings on the
+// same keys — subgroup ballots (linear in the block size) and byte compares (quadratic, the
+// fallback of devices without ballots); Args {log2 of the pair count, key bits}, counter gpu_ms.
+#include <benchmark/benchmark.h>
+
+#ifdef PENUMBRA_HAVE_VULKAN
+
+#include <bit>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bench_fixture.hpp"
+#include "penumbra/gpu/backend.hpp"
+#include "penumbra/gpu/sort.hpp"
+#include "penumbra/render/receivers.hpp"
+
+namespace penumbra {
+namespace {
+
+gpu::Backend* backend() {
+  static const std::unique_ptr<gpu::Backend> b = []() -> std::unique_ptr<gpu::Backend> {
+    if (!gpu::vulkan_available()) return nullptr;
+    return std::make_unique<gpu::Backend>();
+  }();
+  return b.get();
+}
+
+const bench::Fixture* frame_or_skip(benchmark::State& state, const std::string& scene) {
+  const bench::Fixture* f = bench::cached_frame(scene, static_cast<int>(state.range(0)),
+                                                static_cast<int>(state.range(1)));
+  if (!f) state.SkipWithError(bench::kNotFetched);
+  return f;
+}
+
+/// Times `info` on the frame; counters = the per-frame mean of every stage time.
+void time_runs(benchmark::State& state, const Frame& frame, const MethodInfo& info,
+               const MethodOptions& opts) {
+  std::map<std::string, double> sums;
+  for (auto _ : state) {
+    const MethodResult r = frame.run(info, opts, false);
+    for (const auto& [stage, ms] : r.per_light[0].times.stages()) sums[stage] += ms;
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+  }
+  for (const auto& [stage, ms] : sums)
+    state.counters[stage] = ms / static_cast<double>(state.iterations());
+}
+
+void BM_Cpu(benchmark::State& state, const std::string& method, const std::string& scene) {
+  const bench::Fixture* f = frame_or_skip(state, scene);
+  if (!f) return;
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  time_runs(state, *f->frame, info, resolve_options(info, {}));
+}
+
+/// The GPU result against the CPU method's on the same frame (one run each, masks for gears).
+void check(benchmark::State& state, const bench::Fixture& f, const MethodInfo& cpu_info,
+           const MethodInfo& gpu_info, const MethodOptions& opts) {
+  const bool masks = cpu_info.name == "gears";
+  const MethodResult cpu = f.frame->run(cpu_info, opts, masks);
+  const MethodResult gpu = f.frame->run(gpu_info, opts, masks);
+  const Visibility &c = cpu.per_light[0], &g = gpu.per_light[0];
+  double active = 0.0, differ = 0.0, max_abs = 0.0, differ_samples = 0.0;
+  const Image<uint8_t>& receivers = f.frame->receivers(0);
+  for (size_t i = 0; i < receivers.size(); ++i) {
+    if (receivers[i] != kActive) continue;
+    ++active;
+    const double d = std::abs(static_cast<double>(c.lit[i]) - g.lit[i]);
+    differ += d > 1e-6;
+    max_abs = std::max(max_abs, d);
+    if (masks && c.masks && g.masks)
+      for (int w = 0; w < c.masks->words_per_pixel(); ++w)
+        differ_samples += std::popcount(c.masks->pixel(i)[w] ^ g.masks->pixel(i)[w]);
+  }
+  state.counters["active_pixels"] = active;
+  state.counters["differ_pixels"] = differ;
+  state.counters["max_abs_dv"] = max_abs;
+  if (masks) state.counters["differ_samples"] = differ_samples;
+}
+
+void BM_Vulkan(benchmark::State& state, const std::string& method, const std::string& scene) {
+  gpu::Backend* b = backend();
+  if (!b) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  const bench::Fixture* f = frame_or_skip(state, scene);
+  if (!f) return;
+  const MethodInfo& cpu_info = MethodRegistry::builtin().get(method);
+  const MethodInfo info = b->vulkan_method(cpu_info);
+  const MethodOptions opts = resolve_options(info, {});
+  f->frame->run(info, opts, false);  // compiles the pipelines
+  time_runs(state, *f->frame, info, opts);
+  check(state, *f, cpu_info, info, opts);
+  state.SetLabel(b->context().device_name());
+}
+
+/// {size, k}: the paper's output sizes at k = 16 (Table 1, and the stage breakdown of Table 2)
+/// with the small sizes a CPU Vulkan device (lavapipe) manages, and the bitmask sweep (Table 5).
+void gears_args(benchmark::internal::Benchmark* b) {
+  for (int size : {128, 256, 512, 1024, 1280}) b->Args({size, 16});
+  for (int size : {128, 512})
+    for (int k : {4, 8, 32}) b->Args({size, k});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.3);
+}
+void raster_args(benchmark::internal::Benchmark* b) {
+  for (int size : {128, 256, 1024}) b->Args({size, 16});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.3);
+}
+
+void BM_RadixSort(benchmark::State& state, gpu::RadixRanking ranking) {
+  gpu::Backend* b = backend();
+  if (!b) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  gpu::VulkanContext& vk = b->context();
+  if (ranking == gpu::RadixRanking::ballot && !vk.has_subgroup_ballot()) {
+    state.SkipWithError("no subgroup ballots");
+    return;
+  }
+  const uint32_t n = 1u << state.range(0);
+  const int bits = static_cast<int>(state.range(1));
+  std::mt19937 rng(7);
+  std::vector<uint32_t> keys(n), vals(n);
+  for (uint32_t i = 0; i < n; ++i) keys[i] = rng() & ((1u << bits) - 1u), vals[i] = i;
+  const gpu::Buffer k = vk.upload(keys), v = vk.upload(vals);
+  const gpu::Buffer kt(vk, n * 4, gpu::Memory::device), vt(vk, n * 4, gpu::Memory::device);
+  double gpu_ms = 0.0;
+  for (auto _ : state) {
+    std::deque<gpu::Buffer> scratch;
+    gpu::CommandList cl(vk);
+    // Sorting sorted data costs the same: the passes do not look at the order.
+    gpu::record_radix_sort(b->programs(), cl, k, v, kt, vt, n, bits, scratch, ranking);
+    cl.mark("sort");
+    StageTimes times;
+    cl.submit(&times);
+    gpu_ms += times.get("gpu_sort");
+  }
+  state.counters["gpu_ms"] = gpu_ms / static_cast<double>(state.iterations());
+  state.counters["pairs"] = n;
+}
+
+BENCHMARK_CAPTURE(BM_RadixSort, ballot, gpu::RadixRanking::ballot)
+    ->Args({20, 16})
+    ->Args({20, 24})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RadixSort, compare, gpu::RadixRanking::compare)
+    ->Args({20, 16})
+    ->Args({20, 24})
+    ->Unit(benchmark::kMillisecond);
+
+#define PENUMBRA_GPU_BENCH(method, scene, args)                                             \
+  BENCHMARK_CAPTURE(BM_Cpu, method##_##scene, std::string(#method), std::string(#scene))    \
+      ->Apply(args);                                                                        \
+  BENCHMARK_CAPTURE(BM_Vulkan, method##_##scene, std::string(#method), std::string(#scene)) \
+      ->Apply(args)
+
+PENUMBRA_GPU_BENCH(gears, bunny, gears_args);
+PENUMBRA_GPU_BENCH(gears, dragon, gears_args);
+PENUMBRA_GPU_BENCH(gears, spheres, gears_args);
+PENUMBRA_GPU_BENCH(shadow_map, bunny, raster_args);
+PENUMBRA_GPU_BENCH(shadow_map, dragon, raster_args);
+PENUMBRA_GPU_BENCH(pcss, bunny, raster_args);
+PENUMBRA_GPU_BENCH(pcss, dragon, raster_args);
+PENUMBRA_GPU_BENCH(shadow_volume, bunny, raster_args);
+PENUMBRA_GPU_BENCH(shadow_volume, dragon, raster_args);
+// Built in: the benchmark of a machine without the models.
+PENUMBRA_GPU_BENCH(shadow_map, spheres, raster_args);
+PENUMBRA_GPU_BENCH(pcss, spheres, raster_args);
+PENUMBRA_GPU_BENCH(shadow_volume, spheres, raster_args);
+
+}  // namespace
+}  // namespace penumbra
+
+#else
+
+static void BM_NoVulkan(benchmark::State& state) {
+  for (auto _ : state) state.SkipWithError("built without libvulkan-dev / glslc");
+}
+BENCHMARK(BM_NoVulkan);
+
+#endif
+
+BENCHMARK_MAIN();
