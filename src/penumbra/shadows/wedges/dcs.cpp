@@ -523,7 +523,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   k["counter_min"] = total.d_min <= total.d_max ? total.d_min : 0.0;
   k["counter_max"] = total.d_min <= total.d_max ? total.d_max : 0.0;
   // The STSV stage: volumes and bins; their per-sample work is part of `sampling`.
-  stsv::report(sset, total.stsv, stsv_ms, out);
+  if (options.alpha_stsv) stsv::report(stsv::summarize(sset, total.stsv, stsv_ms), out);
   return out;
 }
 

@@ -262,20 +262,32 @@ StsvSet build_stsv(const ShadowContext& ctx, const wedge_pass::PixelSetup& setup
   return set;
 }
 
-void report(const StsvSet& set, const StsvStats& st, double pass_ms, Visibility& out) {
-  out.times.add("stsv", pass_ms);
+Summary summarize(const StsvSet& set, const StsvStats& stats, double ms) {
+  Summary s;
+  s.ran = true;
+  s.triangles = set.triangles.size();
+  s.two_sided = set.two_sided;
+  s.opaque_kept = set.opaque_kept;
+  s.holes_dropped = set.holes_dropped;
+  for (const auto& bin : set.bins) s.bin_entries += bin.size();
+  s.stats = stats;
+  s.ms = ms;
+  return s;
+}
+
+void report(const Summary& s, Visibility& out) {
+  if (!s.ran) return;
+  out.times.add("stsv", s.ms);
   Counters& k = out.counters;
-  k["stsv_triangles"] = static_cast<double>(set.triangles.size());
-  k["stsv_two_sided_volumes"] = static_cast<double>(set.two_sided);
-  k["stsv_alpha_opaque_triangles"] = static_cast<double>(set.opaque_kept);
-  k["stsv_alpha_hole_triangles"] = static_cast<double>(set.holes_dropped);
-  size_t binned = 0;
-  for (const auto& bin : set.bins) binned += bin.size();
-  k["stsv_tile_bin_entries"] = static_cast<double>(binned);
-  k["stsv_volume_tests"] = static_cast<double>(st.volume_tests);
-  k["stsv_pixel_triangle_pairs"] = static_cast<double>(st.pairs);
-  k["stsv_sample_lookups"] = static_cast<double>(st.lookups);
-  k["stsv_blocked_samples"] = static_cast<double>(st.blocked);
+  k["stsv_triangles"] = static_cast<double>(s.triangles);
+  k["stsv_two_sided_volumes"] = static_cast<double>(s.two_sided);
+  k["stsv_alpha_opaque_triangles"] = static_cast<double>(s.opaque_kept);
+  k["stsv_alpha_hole_triangles"] = static_cast<double>(s.holes_dropped);
+  k["stsv_tile_bin_entries"] = static_cast<double>(s.bin_entries);
+  k["stsv_volume_tests"] = static_cast<double>(s.stats.volume_tests);
+  k["stsv_pixel_triangle_pairs"] = static_cast<double>(s.stats.pairs);
+  k["stsv_sample_lookups"] = static_cast<double>(s.stats.lookups);
+  k["stsv_blocked_samples"] = static_cast<double>(s.stats.blocked);
 }
 
 }  // namespace penumbra::stsv

@@ -126,7 +126,15 @@ struct StsvStats {
     return *this;
   }
 };
-/// Writes the set's and the pass's counters (prefix `stsv_`) and the stage time `stsv`.
-void report(const StsvSet& set, const StsvStats& st, double pass_ms, Visibility& out);
+/// What a method reports of its STSV pass.
+struct Summary {
+  bool ran = false;  // alpha=stsv
+  size_t triangles = 0, two_sided = 0, opaque_kept = 0, holes_dropped = 0, bin_entries = 0;
+  StsvStats stats;
+  double ms = 0.0;  // the volumes, bins and (wedge methods) per-sample pass
+};
+Summary summarize(const StsvSet& set, const StsvStats& stats, double ms);
+/// Writes the counters (prefix `stsv_`) and the stage time `stsv` when the summary ran.
+void report(const Summary& summary, Visibility& out);
 
 }  // namespace penumbra::stsv
