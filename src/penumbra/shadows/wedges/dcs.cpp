@@ -546,8 +546,9 @@ void register_dcs(MethodRegistry& registry) {
   info.summary =
       "depth complexity sampling: per light sample, the shadow-volume count from the light centre "
       "plus the steps of every penumbra wedge's projected edge; the same per-sample answer as "
-      "raytrace without a ray";
-  info.reference = "[Forest 2008 ch. 4, Algorithms 7-9; Laine 2005]";
+      "raytrace without a ray; perforated (alpha-textured) triangles through soft textured shadow "
+      "volumes (alpha=stsv)";
+  info.reference = "[Forest 2008 ch. 4, Algorithms 7-9, §5.2.2; Laine 2005]";
   info.sample_exact = true;
   info.options = {
       {"silhouettes",

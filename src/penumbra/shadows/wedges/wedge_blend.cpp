@@ -358,8 +358,9 @@ void register_wedge_blend(MethodRegistry& registry) {
   info.name = "wedge_blend";
   info.summary =
       "penumbra-wedge blending: per caster group an SV-buffer of four light parts (occlusion, "
-      "bounding rectangle), blended with the effective overlapped area heuristic";
-  info.reference = "[Forest 2008 §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
+      "bounding rectangle), blended with the effective overlapped area heuristic; perforated "
+      "triangles through soft textured shadow volumes (alpha=stsv)";
+  info.reference = "[Forest 2008 §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4, §5.2.1]";
   info.sample_exact = false;
   info.options = {wedge_construction_option(), stsv::alpha_option()};
   info.create = [](const MethodOptions& o) {

@@ -305,8 +305,10 @@ void register_wedges(MethodRegistry& registry) {
   info.name = "wedges";
   info.summary =
       "soft shadow volumes: hard count from the light centre plus analytic penumbra-wedge "
-      "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB)";
-  info.reference = "[Assarsson 2003 III §3, IV §4–5; Forest 2008 §3.1, App. 3.B]";
+      "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB); "
+      "perforated triangles through soft textured shadow volumes, their per-sample V_coef added "
+      "(alpha=stsv)";
+  info.reference = "[Assarsson 2003 III §3, IV §4–5; Forest 2008 §3.1, App. 3.B, §5.2.1]";
   info.sample_exact = false;
   info.options = {
       wedge_construction_option(),
