@@ -10,6 +10,7 @@
 #include <functional>
 
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/alpha_mesh.hpp"
 #include "penumbra/scene/shapes.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
@@ -107,6 +108,31 @@ TEST(Stsv, DcsMasksEqualRaytraceOnDefault) {
   const MaskAgreement a = compare_masks(t, "dcs");
   expect_equal_masks(a, 1000);
   EXPECT_LE(a.differ, 20u);
+}
+
+/// Round lights (their light frame; a sphere's per pixel), a point light (hard textured shadows,
+/// [Hasselgren 2007]) and per-pixel sample patterns through the same volumes and projection.
+TEST(Stsv, DcsMasksEqualRaytraceForRoundAndPointLightsAndPerPixelPatterns) {
+  for (LightShape shape : {LightShape::disk, LightShape::sphere, LightShape::point}) {
+    Scene s = make_builtin_scene("fence");
+    Light& l = s.lights[0];
+    l.shape = shape;
+    l.radius = 0.3f;
+    l.normal = Vec3(0, -1, 0);
+    const auto t = make_test_frame(std::move(s), 40, 40, grid(shape == LightShape::point ? 1 : 8));
+    expect_equal_masks(compare_masks(t, "dcs"), shape == LightShape::point ? 50 : 1000);
+    const Diff w = diff(t, t.run("wedges"), t.run("raytrace"));
+    EXPECT_LE(w.max_abs, 1e-6) << static_cast<int>(shape);
+  }
+  for (SamplePattern p : {SamplePattern::decorrelated, SamplePattern::poisson}) {
+    LightSampleSpec spec;
+    spec.pattern = p;
+    spec.k = 8;
+    spec.seed = 3;
+    const auto t = make_test_frame("fence", 32, 32, spec);
+    expect_equal_masks(compare_masks(t, "dcs"), 1000);
+    EXPECT_LE(diff(t, t.run("wedges"), t.run("raytrace")).max_abs, 1e-6);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -295,6 +321,48 @@ TEST(Stsv, SemiOpaqueTexturedOccluderMatchesRaytrace) {
   const Diff w = diff(tf, tf.run("wedges"), tf.run("raytrace"));
   EXPECT_LE(w.max_abs, 1e-6);
   EXPECT_GT(w.shadowed, 300);
+}
+
+/// The benchmark's baseline (bench/bench_stsv.cpp): the fence's texel runs meshed as opaque quads
+/// cast the shadow the alpha texture does, so the STSV-vs-mesh timing compares like with like.
+TEST(Stsv, MeshedAlphaRunsCastTheSameShadow) {
+  const Scene alpha = make_builtin_scene("fence");
+  const Scene meshed = with_meshed_alpha(alpha);
+  EXPECT_EQ(meshed.meshes[1].triangle_count(), 856u);  // 52 rows of 8 slats, 12 rail rows of 1
+  const auto ta = make_test_frame(alpha, 48, 48, grid(8));
+  const auto tm = make_test_frame(meshed, 48, 48, grid(8));
+  const MethodResult dcs = ta.run("dcs", {}, true), rt_meshed = tm.run("raytrace", {}, true);
+  const GBuffer& ga = ta.frame->gbuffer();
+  const GBuffer& gm = tm.frame->gbuffer();
+  const SampleMasks& ma = *dcs.per_light[0].masks;
+  const SampleMasks& mm = *rt_meshed.per_light[0].masks;
+  const int n = ta.frame->samples().count();
+  std::vector<Vec2> uv(n);
+  int same = 0;
+  uint64_t pairs = 0, differ = 0, unexplained = 0;
+  for (size_t i = 0; i < ga.pixel_count(); ++i) {
+    if (ta.frame->receivers(0)[i] != kActive) continue;
+    const Vec3 o = ga.shadow_origin(i);
+    if (o != gm.shadow_origin(i)) continue;  // the fence itself, hit elsewhere
+    ++same;
+    ta.frame->samples().pixel_samples(static_cast<int>(i % ga.width),
+                                      static_cast<int>(i / ga.width), uv);
+    for (int s = 0; s < n; ++s) {
+      ++pairs;
+      if (ma.blocked(i, s) == mm.blocked(i, s)) continue;
+      ++differ;  // a tie when the segment passes along a meshed quad's edge (a texel border)
+      const Vec3 x = light_frame(ta.scene->lights[0], o).point(uv[s]);
+      unexplained += !test::ambiguous(*tm.scene, DVec3(o), DVec3(x));
+    }
+  }
+  std::printf(
+      "  %d pixels with the same shadow origin: %llu of %llu samples differ, %llu not ties\n", same,
+      static_cast<unsigned long long>(differ), static_cast<unsigned long long>(pairs),
+      static_cast<unsigned long long>(unexplained));
+  EXPECT_GT(same, 1500);
+  EXPECT_LE(differ, pairs / 500);
+  EXPECT_EQ(unexplained, 0u);
+  expect_equal_masks(compare_masks(tm, "dcs"), 1000);  // and dcs on the meshed fence is exact
 }
 
 }  // namespace

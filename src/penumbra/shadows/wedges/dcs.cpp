@@ -253,13 +253,17 @@ class Sampler {
       int first = 0, last = 0;
       ss.range(sp.pair.v_lo, sp.pair.v_hi, first, last);
       Counter* c = counters + t.layer_class * n_ + first;
+      const int count = last - first;
+      const int crossing = stsv::blocked_samples(sp.pair, t, ss.u.data() + first,
+                                                 ss.v.data() + first, count, sc.flags.data());
+      st.stsv.lookups += static_cast<uint64_t>(crossing);
+      if (crossing == 0) continue;
+      const uint8_t* blocked_s = sc.flags.data();
       uint64_t blocked = 0;
-      st.stsv.lookups += static_cast<uint64_t>(
-          stsv::for_each_blocked(sp.pair, t, ss.u.data() + first, ss.v.data() + first, last - first,
-                                 sc.flags.data(), [&](int s) {
-                                   ++c[s];
-                                   ++blocked;
-                                 }));
+      for (int s = 0; s < count; ++s) {
+        c[s] += blocked_s[s];
+        blocked += blocked_s[s];
+      }
       st.stsv.blocked += blocked;
     }
     Counter lo = counters[0], hi = counters[0];

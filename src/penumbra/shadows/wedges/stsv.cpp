@@ -186,6 +186,7 @@ Perforated take_perforated(const Scene& scene, wedge_pass::CasterMeshes& c) {
           s.to_triangle = glm::inverse(glm::dmat3(s.e1, s.e2, n));
           s.mesh = &mesh;
           s.prim = static_cast<uint32_t>(t);
+          for (int i = 0; i < 3; ++i) s.uv[i] = uv[i];
           s.alpha = &tex;
           s.transmittance = std::max(0.0f, mat.transmittance);
           perforated.push_back(s);

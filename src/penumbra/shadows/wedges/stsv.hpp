@@ -44,8 +44,9 @@ struct STriangle {
   DVec3 v0{0.0}, e1{0.0}, e2{0.0};  // world vertices v0, v0 + e1, v0 + e2
   /// M' of eq. 5.8: world offsets to coordinates in the basis (e1, e2, n), n = e1 × e2.
   glm::dmat3 to_triangle{1.0};
-  const Mesh* mesh = nullptr;  // its uvs (Mesh::uv_at, the lookup raytrace makes)
+  const Mesh* mesh = nullptr;
   uint32_t prim = 0;
+  Vec2 uv[3] = {};  // its vertices' uvs (0 without uvs: Mesh::uv_at)
   const Texture* alpha = nullptr;
   float transmittance = 0.0f;  // of an opaque texel (0: opaque; Forest 2008 §4.3.3)
   uint16_t layer_class = 0;    // dcs: the counters its opaque texels increment

@@ -78,37 +78,11 @@ inline bool make_pair(const STriangle& t, const DVec3& p, const DVec3& corner, c
 /// 1/λ of the segment end of the tie rule, as the float the z row is compared with.
 inline const float kMinInverseT = static_cast<float>(1.0 / kShadowSegmentEnd);
 
-/// For samples [0, n) (light uv in u[], v[]): calls blocked(s) for each sample whose segment from
-/// p crosses an opaque texel of `t`; `flags` is scratch of n bytes. Returns the number of alpha
-/// lookups (samples whose segment crosses the triangle).
-template <class Blocked>
-inline int for_each_blocked(const Pair& pr, const STriangle& t, const float* __restrict u,
-                            const float* __restrict v, int n, uint8_t* __restrict flags,
-                            Blocked&& blocked) {
-  const float ax = pr.a[0], bx = pr.b[0], cx = pr.c[0];
-  const float ay = pr.a[1], by = pr.b[1], cy = pr.c[1];
-  const float az = pr.a[2], bz = pr.b[2], cz = pr.c[2];
-  const float zmin = kMinInverseT;
-  // Branch-free first pass (vectorised): which segments cross the triangle [App. 5.A, the RET].
-  int crossing = 0;
-  for (int s = 0; s < n; ++s) {
-    const float hx = ax * u[s] + bx * v[s] + cx;
-    const float hy = ay * u[s] + by * v[s] + cy;
-    const float hz = az * u[s] + bz * v[s] + cz;
-    const bool in = (hx >= 0.0f) & (hy >= 0.0f) & (hz - hx - hy >= 0.0f) & (hz >= zmin);
-    flags[s] = in;
-    crossing += in;
-  }
-  if (crossing == 0) return 0;
-  for (int s = 0; s < n; ++s) {
-    if (!flags[s]) continue;
-    const float hz = az * u[s] + bz * v[s] + cz;
-    const float inv = 1.0f / hz;
-    const float b1 = (ax * u[s] + bx * v[s] + cx) * inv, b2 = (ay * u[s] + by * v[s] + cy) * inv;
-    if (t.alpha->sample_scalar(t.mesh->uv_at(t.prim, b1, b2)) < kAlphaCutoff) continue;  // hole
-    blocked(s);
-  }
-  return crossing;
-}
+/// For samples [0, n) (light uv in u[], v[]): blocked[s] = 1 when the segment from p to sample s
+/// crosses an opaque texel of `t`, else 0. Returns the number of alpha lookups (samples whose
+/// segment crosses the triangle). One branch-free loop the compiler vectorises, the texel fetch a
+/// gather (wedges/stsv_lookup.cpp).
+int blocked_samples(const Pair& pr, const STriangle& t, const float* __restrict u,
+                    const float* __restrict v, int n, uint8_t* __restrict blocked);
 
 }  // namespace penumbra::stsv

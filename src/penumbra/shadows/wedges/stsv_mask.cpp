@@ -76,14 +76,19 @@ Summary subtract_stsv_occlusion(const ShadowContext& ctx, const wedge_pass::Pixe
               int first = 0, last = 0;
               ss->range(pr.v_lo, pr.v_hi, first, last);
               float* sv = sample_vis.data() + first;
-              const float tr = t.transmittance;
-              st.lookups += static_cast<uint64_t>(
-                  for_each_blocked(pr, t, ss->u.data() + first, ss->v.data() + first, last - first,
-                                   flags.data(), [&](int s) {
-                                     sv[s] *= tr;  // an opaque texel clears the bit (tr = 0)
-                                     ++st.blocked;
-                                     any = true;
-                                   }));
+              const float tr = t.transmittance;  // an opaque texel clears the bit (tr = 0)
+              const int count = last - first;
+              const int crossing = blocked_samples(pr, t, ss->u.data() + first,
+                                                   ss->v.data() + first, count, flags.data());
+              st.lookups += static_cast<uint64_t>(crossing);
+              if (crossing == 0) continue;
+              uint64_t blocked = 0;
+              for (int s = 0; s < count; ++s) {
+                sv[s] = flags[s] ? sv[s] * tr : sv[s];
+                blocked += flags[s];
+              }
+              st.blocked += blocked;
+              any |= blocked > 0;
             }
             if (!any) continue;
             // The STSV V_coef [§5.2.1, App. 5.B: the bit count over the emitting samples].
