@@ -12,8 +12,8 @@
 // 1), so the triangle lies strictly between p and s under the project's tie rule
 // (shadows/method.hpp: λ ≤ kShadowSegmentEnd) iff s*_h.z ≥ 1/kShadowSegmentEnd — one more compare.
 // For the samples that pass, β = s*_h.xy / s*_h.z (eq. 5.10's projection, on barycentrics) and the
-// texel is the one raytrace reads for the same barycentrics: Mesh::uv_at (the matrix S of
-// eq. 5.5) and Texture::sample_scalar, alpha < kAlphaCutoff a hole.
+// texel is the one raytrace reads for the same barycentrics: Mesh::uv_at's interpolation (the
+// matrix S of eq. 5.5) and Texture::texel_index, alpha < kAlphaCutoff a hole.
 //
 // J is built in double per (pixel, triangle) and evaluated in float per sample: a sample whose
 // answer the rounding can change lies within float precision of a triangle edge, of the tie
