@@ -172,10 +172,12 @@ class Sampler {
     if (!stsv_bin.empty()) {
       const Vec3 origin = ctx_.gbuffer.shadow_origin(i);
       const DVec3 p(origin);
-      const LightFrame f = light_frame(ctx_.light, origin);
+      LightFrame f;
+      bool framed = false;
       for (const uint32_t k : stsv_bin) {
         ++st.stsv.volume_tests;
         if (!stsv_.volumes[k].contains(p)) continue;
+        if (!framed) f = light_frame(ctx_.light, origin), framed = true;
         StsvPair sp;
         sp.triangle = k;
         const stsv::STriangle& t = stsv_.triangles[k];

@@ -49,15 +49,20 @@ Summary subtract_stsv_occlusion(const ShadowContext& ctx, const wedge_pass::Pixe
             if (ctx.receivers[i] != kActive) continue;
             const Vec3 origin = g.shadow_origin(i);
             const DVec3 p(origin);
-            const LightFrame f = light_frame(light, origin);
+            LightFrame f;
             LightProjection lp;
-            const bool has_lp =
-                make_light_projection(p, DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), lp);
+            bool framed = false, has_lp = false;
             const dcs::SampleSet* ss = &shared;
             bool ready = false, any = false;
             for (const uint32_t k : bin) {
               ++st.volume_tests;
               if (!set.volumes[k].contains(p)) continue;
+              if (!framed) {  // the light as seen from p, once a volume holds it
+                f = light_frame(light, origin);
+                has_lp =
+                    make_light_projection(p, DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), lp);
+                framed = true;
+              }
               Pair pr;
               const STriangle& t = set.triangles[k];
               if (!make_pair(t, p, DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v),
