@@ -47,6 +47,7 @@ struct RowStats {
   int32_t d_min = std::numeric_limits<int32_t>::max(), d_max = std::numeric_limits<int32_t>::min();
   PassCounters pass;
   stsv::StsvStats stsv;
+  double stsv_ms = 0.0;  // thread time in the S-triangles' part of the sampling (pairs, lookups)
 };
 
 struct CoveredEdge {
@@ -170,6 +171,7 @@ class Sampler {
     // each increments the counter of its class for the samples behind one of its opaque texels.
     sc.pairs.clear();
     if (!stsv_bin.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
       const Vec3 origin = ctx_.gbuffer.shadow_origin(i);
       const DVec3 p(origin);
       LightFrame f;
@@ -188,6 +190,7 @@ class Sampler {
         ++sc.stsv_sum[t.layer_class];
         sc.pairs.push_back(sp);
       }
+      st.stsv_ms += elapsed_ms(t0);
     }
     if (ncov == 0 && sc.pairs.empty()) {
       // Every sample has the centre's counts (lit, umbra, or uniformly attenuated).
@@ -250,6 +253,7 @@ class Sampler {
     }
     st.covered_updates += updates;
     // §5.2.2: a covered opaque texel of an S-triangle increments D of that sample.
+    const auto t0 = std::chrono::steady_clock::now();
     for (const StsvPair& sp : sc.pairs) {
       const stsv::STriangle& t = stsv_.triangles[sp.triangle];
       int first = 0, last = 0;
@@ -268,6 +272,7 @@ class Sampler {
       }
       st.stsv.blocked += blocked;
     }
+    if (!sc.pairs.empty()) st.stsv_ms += elapsed_ms(t0);
     Counter lo = counters[0], hi = counters[0];
     for (size_t s = 0; s < classes * n_; ++s) {
       lo = std::min(lo, counters[s]);
@@ -497,6 +502,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
     total.pass += r.pass;
     total.block_entries += r.block_entries;
     total.stsv += r.stsv;
+    total.stsv_ms += r.stsv_ms;
   }
   size_t active = 0;
   for (size_t i = 0; i < g.pixel_count(); ++i) active += ctx.receivers[i] == kActive;
@@ -529,7 +535,11 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   k["counter_min"] = total.d_min <= total.d_max ? total.d_min : 0.0;
   k["counter_max"] = total.d_min <= total.d_max ? total.d_max : 0.0;
   // The STSV stage: volumes and bins; their per-sample work is part of `sampling`.
-  if (options.alpha_stsv) stsv::report(stsv::summarize(sset, total.stsv, stsv_ms), out);
+  if (options.alpha_stsv) {
+    stsv::report(stsv::summarize(sset, total.stsv, stsv_ms), out);
+    // The S-triangles' share of `sampling` (thread time, summed over the worker threads).
+    k["stsv_sampling_thread_ms"] = total.stsv_ms;
+  }
   return out;
 }
 
