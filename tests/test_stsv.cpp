@@ -135,6 +135,31 @@ TEST(Stsv, DcsMasksEqualRaytraceForRoundAndPointLightsAndPerPixelPatterns) {
   }
 }
 
+/// A textured light: the STSV bitmask's occluded fraction per channel (emission-weighted) is
+/// subtracted from each channel of the wedges' RGB visibility; on `fence` that is raytrace's RGB.
+TEST(Stsv, TexturedLightRgbEqualsRaytrace) {
+  const auto t =
+      make_test_frame(test::with_textured_light(make_builtin_scene("fence")), 40, 40, grid(8));
+  const MethodResult rt = t.run("raytrace");
+  for (const char* method : {"dcs", "wedges", "wedge_blend"}) {
+    const MethodResult r = t.run(method);
+    const Image<Vec3>& a = *r.per_light[0].lit_rgb;
+    const Image<Vec3>& b = *rt.per_light[0].lit_rgb;
+    double max_rgb = 0.0;
+    int shadowed = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (t.frame->receivers(0)[i] != kActive) continue;
+      shadowed += b[i].x < 0.999f;
+      for (int c = 0; c < 3; ++c) max_rgb = std::max(max_rgb, std::abs(double(a[i][c]) - b[i][c]));
+    }
+    std::printf("  %s vs raytrace: max |dRGB| %.2e over %d shadowed pixels\n", method, max_rgb,
+                shadowed);
+    EXPECT_LE(max_rgb, 1e-5) << method;
+    EXPECT_LE(diff(t, r, rt).max_abs, 1e-5) << method;
+    EXPECT_GT(shadowed, 300);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // wedges: the STSV bitmask V_coef added to the wedges' [§5.2.1].
 
