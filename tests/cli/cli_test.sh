@@ -117,6 +117,16 @@ expect_error "unknown method" render --scene quad --method nosuch --out "$work/x
 expect_error "has no option" render --scene quad --method raytrace --set raytrace.nosuch=1 --out "$work/x"
 expect_error "is not one of" render --scene quad --method raytrace --set raytrace.path=warp --out "$work/x"
 expect_error "expected method.option=value" render --scene quad --method raytrace --set nodot --out "$work/x"
+expect_error "is not one of" render --scene fence --method dcs --set dcs.alpha=holes --out "$work/x"
+# Soft textured shadow volumes: counters in stats.json, alpha=opaque as the fallback option.
+if "$bin" render --scene fence --method dcs --method wedges --set wedges.alpha=opaque --size 32x32 \
+  --samples 2 --out "$work/stsv" >/dev/null 2>&1 &&
+  grep -q '"stsv_sample_lookups"' "$work/stsv/dcs/stats.json" &&
+  ! grep -q '"stsv_sample_lookups"' "$work/stsv/wedges/stats.json"; then
+  ok
+else
+  bad "stsv counters / alpha=opaque"
+fi
 expect_error "--size" render --scene quad --method raytrace --size 0x10 --out "$work/x"
 expect_error "pattern" render --scene quad --method raytrace --pattern blue --out "$work/x"
 expect_error "samples" render --scene quad --method raytrace --samples 0 --out "$work/x"

@@ -16,8 +16,31 @@
 
 namespace penumbra::test {
 
+/// Does the segment o → o + d cross alpha-textured triangle t of m within float rounding of a
+/// border between texels of different sides of the alpha cutoff (nearest-texel lookups of the
+/// interpolated uv: raytrace's Embree barycentrics and a method's own may pick either texel)?
+inline bool near_texel_border(const Scene& scene, const Mesh& m, size_t t, const DVec3& o,
+                              const DVec3& d, double tol_texels = 1e-3) {
+  const Material& mat = scene.material_of(m);
+  if (mat.alpha_texture < 0 || m.uvs.empty()) return false;
+  const Texture& tex = scene.textures[mat.alpha_texture];
+  double u = 0.0, v = 0.0;
+  segment_crosses_triangle(o, d, DVec3(m.vertex(t, 0)), DVec3(m.vertex(t, 1)),
+                           DVec3(m.vertex(t, 2)), &u, &v);
+  const Triangle& tri = m.triangles[t];
+  const DVec2 uv = (1.0 - u - v) * DVec2(m.uvs[tri.v[0]]) + u * DVec2(m.uvs[tri.v[1]]) +
+                   v * DVec2(m.uvs[tri.v[2]]);
+  const double size[2] = {static_cast<double>(tex.width), static_cast<double>(tex.height)};
+  for (int a = 0; a < 2; ++a) {
+    const double x = (uv[a] - std::floor(uv[a])) * size[a];
+    if (std::abs(x - std::round(x)) <= tol_texels) return true;
+  }
+  return false;
+}
+
 /// Is the segment origin → x numerically ambiguous against some occluding triangle: within a
-/// relative `tol` of one of its edge planes or of its plane (t = 1)? Double precision, brute force.
+/// relative `tol` of one of its edge planes or of its plane (t = 1), or crossing an alpha texture
+/// at a texel border? Double precision, brute force.
 inline bool ambiguous(const Scene& scene, const DVec3& o, const DVec3& x, double tol = 1e-4) {
   const DVec3 d = x - o;
   for (const Mesh& m : scene.meshes) {
@@ -39,6 +62,7 @@ inline bool ambiguous(const Scene& scene, const DVec3& o, const DVec3& x, double
       const double tt = std::abs(det) / (sum != 0.0 ? sum : 1e-300);
       if (lo <= tol && tt <= 1.0 + tol && tt > 0.0) return true;  // near an edge plane
       if (lo > tol && std::abs(tt - 1.0) <= tol) return true;     // hit point at the light
+      if (lo > tol && tt > 0.0 && tt < 1.0 && near_texel_border(scene, m, t, o, d)) return true;
     }
   }
   return false;

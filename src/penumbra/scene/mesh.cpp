@@ -8,12 +8,6 @@ Bounds3 Mesh::bounds() const {
   return b;
 }
 
-Vec2 Mesh::uv_at(size_t tri, float u, float v) const {
-  if (uvs.empty()) return Vec2(0.0f);
-  const Triangle& t = triangles[tri];
-  return (1.0f - u - v) * uvs[t.v[0]] + u * uvs[t.v[1]] + v * uvs[t.v[2]];
-}
-
 void transform_mesh(Mesh& mesh, const Mat4& m) {
   const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(m)));
   for (Vec3& p : mesh.positions) p = Vec3(m * Vec4(p, 1.0f));

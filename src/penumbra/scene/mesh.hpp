@@ -33,7 +33,11 @@ struct Mesh {
   Vec3 vertex(size_t tri, int corner) const { return positions[triangles[tri].v[corner]]; }
   /// Texture coordinate at barycentric (u, v) of triangle `tri` (Embree's convention:
   /// p = (1-u-v) p0 + u p1 + v p2). Zero when the mesh has no UVs.
-  Vec2 uv_at(size_t tri, float u, float v) const;
+  Vec2 uv_at(size_t tri, float u, float v) const {
+    if (uvs.empty()) return Vec2(0.0f);
+    const Triangle& t = triangles[tri];
+    return (1.0f - u - v) * uvs[t.v[0]] + u * uvs[t.v[1]] + v * uvs[t.v[2]];
+  }
 };
 
 /// Applies an affine model-to-world matrix: positions by M, normals by the inverse transpose of

@@ -4,19 +4,6 @@
 
 namespace penumbra {
 
-void Texture::texel_index(Vec2 uv, int& tx, int& ty) const {
-  const float u = uv.x - std::floor(uv.x);
-  const float v = uv.y - std::floor(uv.y);
-  tx = std::min(width - 1, std::max(0, static_cast<int>(u * static_cast<float>(width))));
-  ty = std::min(height - 1, std::max(0, static_cast<int>(v * static_cast<float>(height))));
-}
-
-float Texture::sample_scalar(Vec2 uv) const {
-  int tx = 0, ty = 0;
-  texel_index(uv, tx, ty);
-  return channel(tx, ty, 0);
-}
-
 Vec3 Texture::sample_rgb(Vec2 uv) const {
   int tx = 0, ty = 0;
   texel_index(uv, tx, ty);

@@ -113,7 +113,7 @@ void register_pcss(MethodRegistry& registry) {
   info.name = "pcss";
   info.summary =
       "percentage-closer soft shadows: blocker search, penumbra width from light size, variable "
-      "PCF";
+      "PCF; alpha-textured (perforated) occluders count as opaque";
   info.reference = "[Fernando 2005 eq. 1; Forest 2008 §2.2.2]";
   info.options = depth_map_option_specs();
   info.options.insert(

@@ -140,7 +140,8 @@ void register_shadow_map(MethodRegistry& registry) {
   MethodInfo info;
   info.name = "shadow_map";
   info.summary =
-      "hard shadows from a light-centre depth map, constant + slope-scaled bias, k×k PCF";
+      "hard shadows from a light-centre depth map, constant + slope-scaled bias, k×k PCF; "
+      "alpha-textured (perforated) occluders count as opaque";
   info.reference = "[Forest 2008 §2.2.2; Valient 2005 §1; Reeves 1987]";
   info.options = depth_map_option_specs();
   info.options.push_back({"pcf",

@@ -517,7 +517,8 @@ MethodInfo silhouette_map_info() {
   info.name = "silhouette_map";
   info.summary =
       "shadow map + silhouette layer (signed edge distance, edge depth) from a topology-aware "
-      "mesh: anti-aliased hard shadows (eq. 4) or 4-sample soft shadows of a small sphere";
+      "mesh: anti-aliased hard shadows (eq. 4) or 4-sample soft shadows of a small sphere; "
+      "alpha-textured (perforated) occluders count as opaque";
   info.reference = "[Valient 2005 §2, eqs. 1, 2, 4, §2.2.1]";
   info.options = depth_map_option_specs();
   info.options.insert(

@@ -468,7 +468,8 @@ void register_ssm(MethodRegistry& registry) {
   info.name = "ssm";
   info.summary =
       "soft shadow maps: occluder-map texels as light-parallel micro-patches, back-projected onto "
-      "the rectangular light (one- or two-pass)";
+      "the rectangular light (one- or two-pass); alpha-textured (perforated) occluders count as "
+      "opaque";
   info.reference = "[Atty 2006 §3, §3.5]";
   info.options = {
       {"resolution", OptionType::integer, "128", "occluder map side in texels", {}, 4, 4096},

@@ -16,6 +16,8 @@
 #include "penumbra/shadows/wedges/dcs_init.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
+#include "penumbra/shadows/wedges/stsv.hpp"
+#include "penumbra/shadows/wedges/stsv_lookup.hpp"
 #include "penumbra/shadows/wedges/wedges.hpp"
 
 namespace penumbra {
@@ -44,12 +46,20 @@ struct RowStats {
   uint64_t block_entries = 0;  // bin entries kept per 4×4 pixel block
   int32_t d_min = std::numeric_limits<int32_t>::max(), d_max = std::numeric_limits<int32_t>::min();
   PassCounters pass;
+  stsv::StsvStats stsv;
+  double stsv_ms = 0.0;  // thread time in the S-triangles' part of the sampling (pairs, lookups)
 };
 
 struct CoveredEdge {
   dcs::CoveredRegion region;
   int delta = 0;
   uint16_t layer_class = 0;
+};
+
+/// An S-triangle whose volume holds the pixel [Forest 2008 §5.1.3], with its J (§5.1.4).
+struct StsvPair {
+  stsv::Pair pair;
+  uint32_t triangle = 0;
 };
 
 /// What one pixel's evaluation needs; thread-local, sized to the sample count.
@@ -60,9 +70,14 @@ struct Scratch {
   std::vector<int16_t> c16;
   std::vector<int32_t> c32;
   std::vector<CoveredEdge> covered;
-  std::vector<int> abs_sum;  // per class: Σ |step| of the covered edges
+  std::vector<StsvPair> pairs;
+  std::vector<uint8_t> flags;  // per sample: its segment crosses the S-triangle
+  std::vector<int> abs_sum;    // per class: Σ |step| of the covered edges
+  std::vector<int> stsv_sum;   // per class: S-triangles holding the pixel (each adds ≤ 1)
   void resize(int n, size_t classes) {
     abs_sum.assign(classes, 0);
+    stsv_sum.assign(classes, 0);
+    flags.resize(n);
     uv.resize(n);
     vis.resize(n);
     c16.resize(n * classes);
@@ -74,12 +89,13 @@ class Sampler {
  public:
   Sampler(const ShadowContext& ctx, const DcsOptions& options,
           const std::vector<LayerClass>& classes, const dcs::EdgeSet& edges, const BinnedWedges* bw,
-          Visibility& out)
+          const stsv::StsvSet& stsv, Visibility& out)
       : ctx_(ctx),
         options_(options),
         classes_(classes),
         edges_(edges),
         bw_(bw),
+        stsv_(stsv),
         out_(out),
         n_(ctx.samples.count()),
         emission_(ctx.light.is_textured() ? &emission_texture(ctx.scene, ctx.light, "dcs")
@@ -90,10 +106,11 @@ class Sampler {
                      [&](const Vec2& uv) { return emits(uv); });
   }
 
-  /// V of pixel i; pl null when no wedge of its tile can hold it (or it lies in the light plane).
-  /// `weights`: BlockWeights of `bin` (needed when pl is not null).
+  /// V of pixel i; pl null when no wedge or S-triangle of its tile can hold it (or it lies in the
+  /// light plane). `weights`: BlockWeights of `bin` (needed when pl is not null); `stsv_bin`: the
+  /// S-triangles of its tile.
   float shade(size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin,
-              dcs::BlockWeights* weights, RowStats& st) {
+              dcs::BlockWeights* weights, const std::vector<uint32_t>& stsv_bin, RowStats& st) {
     thread_local Scratch sc;
     sc.resize(n_, classes_.size());
     const int width = ctx_.gbuffer.width;
@@ -150,7 +167,32 @@ class Sampler {
       st.d_max = std::max(st.d_max, d0 + abs_sum[0]);
       return finish_uniform(i, ss, 0.0f);
     }
-    if (ncov == 0) {
+    // The S-triangles whose soft textured shadow volume holds p [Forest 2008 §5.1.3, §5.2.2]:
+    // each increments the counter of its class for the samples behind one of its opaque texels.
+    sc.pairs.clear();
+    if (!stsv_bin.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const Vec3 origin = ctx_.gbuffer.shadow_origin(i);
+      const DVec3 p(origin);
+      LightFrame f;
+      bool framed = false;
+      for (const uint32_t k : stsv_bin) {
+        ++st.stsv.volume_tests;
+        if (!stsv_.volumes[k].contains(p)) continue;
+        if (!framed) f = light_frame(ctx_.light, origin), framed = true;
+        StsvPair sp;
+        sp.triangle = k;
+        const stsv::STriangle& t = stsv_.triangles[k];
+        if (!stsv::make_pair(t, p, DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v),
+                             pl ? &pl->projection() : nullptr, sp.pair))
+          continue;
+        ++st.stsv.pairs;
+        ++sc.stsv_sum[t.layer_class];
+        sc.pairs.push_back(sp);
+      }
+      st.stsv_ms += elapsed_ms(t0);
+    }
+    if (ncov == 0 && sc.pairs.empty()) {
       // Every sample has the centre's counts (lit, umbra, or uniformly attenuated).
       float t = d0 > 0 ? 0.0f : 1.0f;
       for (size_t j = 1; j < classes_.size() && t > 0.0f; ++j)
@@ -165,8 +207,9 @@ class Sampler {
     // Adaptive precision [§4.2.3]: 16-bit lanes unless this pixel's bound could overflow them.
     int64_t bound = 0;
     for (size_t j = 0; j < classes_.size(); ++j)
-      bound = std::max<int64_t>(
-          bound, std::abs(static_cast<int64_t>(classes_[j].centre_counts[i])) + abs_sum[j]);
+      bound =
+          std::max<int64_t>(bound, std::abs(static_cast<int64_t>(classes_[j].centre_counts[i])) +
+                                       abs_sum[j] + sc.stsv_sum[j]);
     if (bound < std::numeric_limits<int16_t>::max()) {
       return integrate(i, sc, sc.c16.data(), ss, st);
     }
@@ -209,6 +252,27 @@ class Sampler {
                                    ss.v.data() + first, last - first, ce.region, ce.delta);
     }
     st.covered_updates += updates;
+    // §5.2.2: a covered opaque texel of an S-triangle increments D of that sample.
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const StsvPair& sp : sc.pairs) {
+      const stsv::STriangle& t = stsv_.triangles[sp.triangle];
+      int first = 0, last = 0;
+      ss.range(sp.pair.v_lo, sp.pair.v_hi, first, last);
+      Counter* c = counters + t.layer_class * n_ + first;
+      const int count = last - first;
+      const int crossing = stsv::blocked_samples(sp.pair, t, ss.u.data() + first,
+                                                 ss.v.data() + first, count, sc.flags.data());
+      st.stsv.lookups += static_cast<uint64_t>(crossing);
+      if (crossing == 0) continue;
+      const uint8_t* blocked_s = sc.flags.data();
+      uint64_t blocked = 0;
+      for (int s = 0; s < count; ++s) {
+        c[s] += blocked_s[s];
+        blocked += blocked_s[s];
+      }
+      st.stsv.blocked += blocked;
+    }
+    if (!sc.pairs.empty()) st.stsv_ms += elapsed_ms(t0);
     Counter lo = counters[0], hi = counters[0];
     for (size_t s = 0; s < classes * n_; ++s) {
       lo = std::min(lo, counters[s]);
@@ -262,6 +326,7 @@ class Sampler {
   const std::vector<LayerClass>& classes_;
   const dcs::EdgeSet& edges_;
   const BinnedWedges* bw_;
+  const stsv::StsvSet& stsv_;
   Visibility& out_;
   int n_;
   const Texture* emission_;
@@ -305,7 +370,10 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   // the casters' adjacency; the layer classes by transmittance (§4.3.3).
   auto start = std::chrono::steady_clock::now();
   const PixelSetup setup = pixel_setup(ctx);
-  const CasterMeshes casters = caster_meshes(ctx.scene);
+  CasterMeshes casters = caster_meshes(ctx.scene);
+  // Forest 2008 §5.3 Algorithm 12 lines 5–6: the perforated triangles leave the opaque machinery.
+  stsv::Perforated perforated;
+  if (options.alpha_stsv) perforated = stsv::take_perforated(ctx.scene, casters);
   std::vector<LayerClass> classes(1);
   std::map<float, uint16_t> class_of_t;
   std::vector<uint16_t> mesh_class(casters.meshes.size(), 0);
@@ -317,10 +385,16 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
           class_of_t.emplace(mat.transmittance, static_cast<uint16_t>(classes.size()));
       if (added) classes.push_back({std::min(1.0, static_cast<double>(mat.transmittance)), {}, {}});
       mesh_class[m] = it->second;
-    } else if (mat.alpha_texture >= 0) {
+    } else if (mat.alpha_texture >= 0 && !options.alpha_stsv) {
       alpha_triangles += casters.meshes[m]->triangle_count();
     }
     classes[mesh_class[m]].meshes.push_back(casters.meshes[m]);
+  }
+  for (stsv::STriangle& t : perforated.triangles) {  // semi-opaque textured: their class [§5.5]
+    if (t.transmittance <= 0.0f) continue;
+    auto [it, added] = class_of_t.emplace(t.transmittance, static_cast<uint16_t>(classes.size()));
+    if (added) classes.push_back({std::min(1.0, static_cast<double>(t.transmittance)), {}, {}});
+    t.layer_class = it->second;
   }
   out.times.add("setup", elapsed_ms(start));
 
@@ -352,11 +426,16 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   }
   out.times.add("wedges", elapsed_ms(start));
 
+  // The S-triangles' volumes and their tile bins [Forest 2008 §5.1.2–5.1.3].
+  start = std::chrono::steady_clock::now();
+  const stsv::StsvSet sset = stsv::build_stsv(ctx, setup, std::move(perforated));
+  const double stsv_ms = elapsed_ms(start);
+
   // Algorithm 7 per pixel, one tile row per task. Each tile's bin is culled again per 4×4 block
   // of pixels (its shadow origins' box against the wedge planes and the straddling weights), so
   // a pixel visits only the edges that can matter near it.
   start = std::chrono::steady_clock::now();
-  Sampler sampler(ctx, options, classes, edges, area ? &bw : nullptr, out);
+  Sampler sampler(ctx, options, classes, edges, area ? &bw : nullptr, sset, out);
   const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
   std::vector<RowStats> rows(tiles_y);
   const bool per_pixel_frame = light.shape == LightShape::sphere;
@@ -369,6 +448,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
     for (int tx = 0; tx < tiles_x; ++tx) {
       const std::vector<uint32_t>& bin =
           area ? bw.bins[static_cast<size_t>(ty) * tiles_x + tx] : none;
+      const std::vector<uint32_t>& stsv_bin = sset.bin_of_tile(tx, ty);
       for (int by = ty * kTile; by < std::min(g.height, (ty + 1) * kTile); by += kBlock) {
         for (int bx = tx * kTile; bx < std::min(g.width, (tx + 1) * kTile); bx += kBlock) {
           const int y1 = std::min(g.height, by + kBlock), x1 = std::min(g.width, bx + kBlock);
@@ -392,13 +472,14 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
             for (int x = bx; x < x1; ++x) {
               const size_t i = static_cast<size_t>(y) * g.width + x;
               if (ctx.receivers[i] != kActive) continue;
-              if (block.empty()) {
-                out.lit[i] = sampler.shade(i, nullptr, block, nullptr, st);
+              if (block.empty() && stsv_bin.empty()) {
+                out.lit[i] = sampler.shade(i, nullptr, block, nullptr, stsv_bin, st);
                 continue;
               }
               const PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
               if (!pl.valid()) ++st.pass.fallbacks;  // in the light's plane: the centre count
-              out.lit[i] = sampler.shade(i, pl.valid() ? &pl : nullptr, block, &weights, st);
+              out.lit[i] =
+                  sampler.shade(i, pl.valid() ? &pl : nullptr, block, &weights, stsv_bin, st);
             }
         }
       }
@@ -420,6 +501,8 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
     total.d_max = std::max(total.d_max, r.d_max);
     total.pass += r.pass;
     total.block_entries += r.block_entries;
+    total.stsv += r.stsv;
+    total.stsv_ms += r.stsv_ms;
   }
   size_t active = 0;
   for (size_t i = 0; i < g.pixel_count(); ++i) active += ctx.receivers[i] == kActive;
@@ -451,6 +534,12 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   k["int32_counter_pixels"] = static_cast<double>(total.wide_counters);
   k["counter_min"] = total.d_min <= total.d_max ? total.d_min : 0.0;
   k["counter_max"] = total.d_min <= total.d_max ? total.d_max : 0.0;
+  // The STSV stage: volumes and bins; their per-sample work is part of `sampling`.
+  if (options.alpha_stsv) {
+    stsv::report(stsv::summarize(sset, total.stsv, stsv_ms), out);
+    // The S-triangles' share of `sampling` (thread time, summed over the worker threads).
+    k["stsv_sampling_thread_ms"] = total.stsv_ms;
+  }
   return out;
 }
 
@@ -473,8 +562,9 @@ void register_dcs(MethodRegistry& registry) {
   info.summary =
       "depth complexity sampling: per light sample, the shadow-volume count from the light centre "
       "plus the steps of every penumbra wedge's projected edge; the same per-sample answer as "
-      "raytrace without a ray";
-  info.reference = "[Forest 2008 ch. 4, Algorithms 7-9; Laine 2005]";
+      "raytrace without a ray; perforated (alpha-textured) triangles through soft textured shadow "
+      "volumes (alpha=stsv)";
+  info.reference = "[Forest 2008 ch. 4, Algorithms 7-9, §5.2.2; Laine 2005]";
   info.sample_exact = true;
   info.options = {
       {"silhouettes",
@@ -485,6 +575,7 @@ void register_dcs(MethodRegistry& registry) {
        "penumbrae of fig. 4.3a)",
        {"light", "centre"}},
       wedge_construction_option(),
+      stsv::alpha_option(),
       {"semi_opaque",
        OptionType::choice,
        "exact",
@@ -500,6 +591,7 @@ void register_dcs(MethodRegistry& registry) {
     d.construction = wedge_construction_of(o);
     d.semi_opaque =
         o.get_choice("semi_opaque") == "paper" ? DcsSemiOpaque::paper : DcsSemiOpaque::exact;
+    d.alpha_stsv = stsv::uses_stsv(o);
     return std::make_unique<Dcs>(d);
   };
   registry.add(std::move(info));

@@ -20,10 +20,14 @@
 // `semi_opaque=paper` the counter-packing approximation V_s = 1 − Sat(D + Σ (1 − t)·D_t)
 // ("summing the occluders' percentage of opaqueness", exact for one semi-opaque layer).
 //
-// Not handled (documented in docs/methods/dcs.md): alpha-textured (perforated) triangles count as
-// opaque (counter `alpha_textured_as_opaque`: their holes need the textured shadow volumes of
-// Forest ch. 5); triangles that cross the light's own plane inside the light (their cut by that
-// plane is not an edge, so no wedge carries it).
+// Perforated (alpha-textured) triangles [Forest 2008 §5.2.2, wedges/stsv.hpp]: they leave the
+// edges and centre counts and become S-triangles; per pixel inside an S-triangle's soft textured
+// shadow volume, each light sample whose segment crosses one of its opaque texels gets +1 in the
+// counter of the triangle's class, so D stays the number of occluders crossed (option
+// `alpha=opaque`: solid, counter `alpha_textured_as_opaque`).
+//
+// Not handled (documented in docs/methods/dcs.md): triangles that cross the light's own plane
+// inside the light (their cut by that plane is not an edge, so no wedge carries it).
 #pragma once
 
 #include <cstdint>
@@ -40,6 +44,7 @@ struct DcsOptions {
   dcs::SilhouetteMode silhouettes = dcs::SilhouetteMode::light;
   WedgeConstruction construction = WedgeConstruction::paper;
   DcsSemiOpaque semi_opaque = DcsSemiOpaque::exact;
+  bool alpha_stsv = true;  // perforated triangles through soft textured shadow volumes (ch. 5)
 };
 
 /// Visibility (lit, lit_rgb for a textured light, masks when ctx.want_masks), stage times and

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <string>
 #include <unordered_set>
@@ -396,6 +397,39 @@ GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const
   return gc;
 }
 
+std::vector<std::vector<uint32_t>> bin_hulls(
+    const ShadowContext& ctx, const PixelSetup& setup, const std::vector<std::vector<DVec2>>& hulls,
+    const std::function<bool(uint32_t item, size_t tile)>& may_hold) {
+  const GBuffer& g = ctx.gbuffer;
+  std::vector<DVec2> yrange(hulls.size(), DVec2(kInfinity, -kInfinity));
+  for (size_t k = 0; k < hulls.size(); ++k)
+    for (const DVec2& p : hulls[k])
+      yrange[k] = DVec2(std::min(yrange[k].x, p.y), std::max(yrange[k].y, p.y));
+  // One tile row per task (deterministic order: item index).
+  const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
+  std::vector<std::vector<uint32_t>> bins(static_cast<size_t>(tiles_x) * tiles_y);
+  const double margin = setup.margin;
+  parallel_rows(tiles_y, [&](int ty) {
+    const double y0 = ty * kTile + 0.5 - margin,
+                 y1 = std::min(g.height, (ty + 1) * kTile) - 0.5 + margin;
+    for (uint32_t k = 0; k < hulls.size(); ++k) {
+      if (yrange[k].y < y0 || yrange[k].x > y1) continue;
+      double x0 = 0.0, x1 = 0.0;
+      if (!hull_row_span(hulls[k], y0, y1, x0, x1)) continue;
+      const double ta = std::floor((x0 - margin - 0.5) / kTile),
+                   tb = std::floor((x1 + margin - 0.5) / kTile);
+      if (tb < 0.0 || ta > tiles_x - 1.0) continue;
+      const int a = static_cast<int>(std::max(0.0, ta)),
+                b = static_cast<int>(std::min(tiles_x - 1.0, tb));
+      for (int tx = a; tx <= b; ++tx) {
+        const size_t t = static_cast<size_t>(ty) * tiles_x + tx;
+        if (may_hold(k, t)) bins[t].push_back(k);
+      }
+    }
+  });
+  return bins;
+}
+
 BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
                            const std::vector<WedgeEdge>& sil, const WedgeLight& light,
                            WedgeConstruction construction) {
@@ -405,43 +439,21 @@ BinnedWedges build_and_bin(const ShadowContext& ctx, const PixelSetup& setup,
   bw.wedges.resize(sil.size());
   bw.group.resize(sil.size());
   std::vector<std::vector<DVec2>> hulls(sil.size());
-  std::vector<DVec2> yrange(sil.size());
   parallel_chunks(sil.size(), 64, [&](size_t b, size_t e) {
     for (size_t k = b; k < e; ++k) {
       const Wedge& w = bw.wedges[k] =
           build_wedge(sil[k].from, sil[k].to, sil[k].weight, light, construction, scale);
       bw.group[k] = sil[k].group;
       hulls[k] = wedge_screen_hull(setup.screen, w.top0, w.top1, light.hull);
-      yrange[k] = DVec2(kInfinity, -kInfinity);
-      for (const DVec2& p : hulls[k])
-        yrange[k] = DVec2(std::min(yrange[k].x, p.y), std::max(yrange[k].y, p.y));
     }
   });
 
   for (const Wedge& w : bw.wedges) bw.degenerate += w.degenerate;
 
-  // Bin wedges to tiles, one tile row per task (deterministic order: wedge index).
   bw.tiles_x = (g.width + kTile - 1) / kTile;
   bw.tiles_y = (g.height + kTile - 1) / kTile;
-  bw.bins.assign(static_cast<size_t>(bw.tiles_x) * bw.tiles_y, {});
-  const double margin = setup.margin;
-  parallel_rows(bw.tiles_y, [&](int ty) {
-    const double y0 = ty * kTile + 0.5 - margin,
-                 y1 = std::min(g.height, (ty + 1) * kTile) - 0.5 + margin;
-    for (uint32_t k = 0; k < bw.wedges.size(); ++k) {
-      if (yrange[k].y < y0 || yrange[k].x > y1) continue;
-      double x0 = 0.0, x1 = 0.0;
-      if (!hull_row_span(hulls[k], y0, y1, x0, x1)) continue;
-      const double ta = std::floor((x0 - margin - 0.5) / kTile),
-                   tb = std::floor((x1 + margin - 0.5) / kTile);
-      if (tb < 0.0 || ta > bw.tiles_x - 1.0) continue;
-      const int a = static_cast<int>(std::max(0.0, ta)),
-                b = static_cast<int>(std::min(bw.tiles_x - 1.0, tb));
-      for (int tx = a; tx <= b; ++tx) {
-        const size_t t = static_cast<size_t>(ty) * bw.tiles_x + tx;
-        if (bw.wedges[k].may_hold_box(setup.tile_lo[t], setup.tile_hi[t])) bw.bins[t].push_back(k);
-      }
-    }
+  bw.bins = bin_hulls(ctx, setup, hulls, [&](uint32_t k, size_t t) {
+    return bw.wedges[k].may_hold_box(setup.tile_lo[t], setup.tile_hi[t]);
   });
   return bw;
 }

@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -154,6 +155,14 @@ struct GroupCounts {
 GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
                          const ShadowVolumePixels* pixels = nullptr);
 
+/// Bins convex screen hulls (wedges/screen.hpp) to the kTile × kTile tiles, widened by the
+/// shadow-origin margin; may_hold(item, tile) then culls an item against the tile's world box
+/// (PixelSetup::tile_lo/hi). Each bin is in item order. Shared by the wedges and the soft textured
+/// shadow volumes (wedges/stsv.hpp).
+std::vector<std::vector<uint32_t>> bin_hulls(
+    const ShadowContext& ctx, const PixelSetup& setup, const std::vector<std::vector<DVec2>>& hulls,
+    const std::function<bool(uint32_t item, size_t tile)>& may_hold);
+
 /// The wedges of one (sub-)light and their 16×16 tile bins (each bin in wedge index order).
 struct BinnedWedges {
   std::vector<Wedge> wedges;
@@ -188,6 +197,8 @@ class PixelLight {
              const Vec3& origin);
   bool valid() const { return valid_; }
   bool round() const { return round_; }
+  /// The projection from the point onto the light's uv (exact/projection.hpp).
+  const LightProjection& projection() const { return lp_; }
   const DVec3& point() const { return p_; }
   /// The edge clipped to the light (uv), false if it misses it.
   bool clip(const Wedge& w, DVec2& a, DVec2& b) const;

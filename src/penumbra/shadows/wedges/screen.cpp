@@ -35,12 +35,17 @@ std::vector<DVec2> convex_hull(std::vector<DVec2> pts) {
 
 std::vector<DVec2> wedge_screen_hull(const WedgeScreenSetup& s, const DVec3& e0, const DVec3& e1,
                                      const std::vector<DVec3>& light_hull) {
+  const DVec3 tops[2] = {e0, e1};
+  return extrusion_screen_hull(s, tops, light_hull);
+}
+
+std::vector<DVec2> extrusion_screen_hull(const WedgeScreenSetup& s, std::span<const DVec3> tops,
+                                         const std::vector<DVec3>& light_hull) {
   std::vector<DVec4> gen;
-  gen.reserve(2 + 2 * light_hull.size());
-  gen.push_back(s.proj.to_clip(DVec4(e0, 1.0)));
-  gen.push_back(s.proj.to_clip(DVec4(e1, 1.0)));
+  gen.reserve(tops.size() * (1 + light_hull.size()));
+  for (const DVec3& e : tops) gen.push_back(s.proj.to_clip(DVec4(e, 1.0)));
   for (const DVec3& x : light_hull) {
-    for (const DVec3& e : {e0, e1}) {
+    for (const DVec3& e : tops) {
       const DVec3 dir = e - x;
       if (glm::dot(dir, dir) > 0.0) gen.push_back(s.proj.to_clip(DVec4(dir, 0.0)));
     }

@@ -18,6 +18,7 @@
 // every pixel whose point lies in S.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "penumbra/core/math.hpp"
@@ -36,6 +37,11 @@ struct WedgeScreenSetup {
 /// misses the depth slab.
 std::vector<DVec2> wedge_screen_hull(const WedgeScreenSetup& setup, const DVec3& e0,
                                      const DVec3& e1, const std::vector<DVec3>& light_hull);
+
+/// The same bound for the region conv{tops} + cone{top − x_k} of any set of top points: a soft
+/// textured shadow volume's triangle (wedges/stsv.hpp) as well as a wedge's top edge.
+std::vector<DVec2> extrusion_screen_hull(const WedgeScreenSetup& setup, std::span<const DVec3> tops,
+                                         const std::vector<DVec3>& light_hull);
 
 /// Horizontal extent of the convex polygon over the band y ∈ [y0, y1]; false if it misses it.
 bool hull_row_span(const std::vector<DVec2>& hull, double y0, double y1, double& x0, double& x1);

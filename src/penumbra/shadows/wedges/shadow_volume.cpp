@@ -321,7 +321,8 @@ void register_shadow_volume(MethodRegistry& registry) {
   MethodInfo info;
   info.name = "shadow_volume";
   info.summary =
-      "hard shadows from the light centre: exact z-fail shadow-volume counts per G-buffer pixel";
+      "hard shadows from the light centre: exact z-fail shadow-volume counts per G-buffer pixel; "
+      "alpha-textured (perforated) occluders count as opaque";
   info.reference = "[Forest 2008 §2.2.1, §3.3.1, App. 3.A; Assarsson 2003 V]";
   info.sample_exact = false;  // exact for the light centre only (raytrace with one centred sample)
   info.create = [](const MethodOptions&) { return std::make_unique<ShadowVolume>(); };

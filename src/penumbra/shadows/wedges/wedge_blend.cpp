@@ -12,6 +12,7 @@
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
+#include "penumbra/shadows/wedges/stsv_mask.hpp"
 
 namespace penumbra {
 
@@ -183,7 +184,8 @@ void blend_part(const SvPart& s, VPart& v, int q, const LightMeasure& m, WedgeBl
 }  // namespace
 
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
-                                    WedgeConstruction construction, Image<Vec3>* lit_rgb) {
+                                    WedgeConstruction construction, Image<Vec3>* lit_rgb,
+                                    bool alpha_stsv) {
   WedgeBlendStats st;
   WedgeStats& ws = st.wedges;
   const GBuffer& g = ctx.gbuffer;
@@ -203,7 +205,11 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   // Silhouette loops from the light centre, grouped per light-facing patch (Algorithm 4
   // line 1, wedges/pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  const Casters casters = make_casters(ctx.scene, centre);
+  CasterMeshes caster_set = caster_meshes(ctx.scene);
+  // Forest 2008 Algorithm 12 lines 5–6: perforated triangles leave the wedges for the STSV pass.
+  stsv::Perforated perforated;
+  if (alpha_stsv) perforated = stsv::take_perforated(ctx.scene, caster_set);
+  const Casters casters = make_casters(caster_set, centre);
   const std::vector<WedgeEdge> sil = silhouette_edges(casters, centre);
   st.groups = casters.meshes.size();
   ws.silhouette_edges = sil.size();
@@ -312,6 +318,9 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   ws.pixels_covered = pc.covered;
   ws.plane_fallbacks = pc.fallbacks;
   ws.pass2_ms = elapsed_ms(start);
+  if (alpha_stsv)  // §5.2.1: the STSV V_coef added to the blended one (lines 13–14)
+    ws.stsv = stsv::subtract_stsv_occlusion(ctx, setup, std::move(perforated), vis,
+                                            emission ? &rgb_img : nullptr);
   if (stats_out) *stats_out = st;
   if (lit_rgb && emission) *lit_rgb = std::move(rgb_img);
   return vis;
@@ -321,13 +330,14 @@ namespace {
 
 class WedgeBlend final : public ShadowMethod {
  public:
-  explicit WedgeBlend(WedgeConstruction construction) : construction_(construction) {}
+  WedgeBlend(WedgeConstruction construction, bool alpha_stsv)
+      : construction_(construction), alpha_stsv_(alpha_stsv) {}
 
   Visibility compute(const ShadowContext& ctx) override {
     WedgeBlendStats st;
     Visibility v;
     Image<Vec3> rgb;
-    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb);
+    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb, alpha_stsv_);
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     report_wedge_stats(st.wedges, "pass2_blend", v);
     v.counters["groups"] = static_cast<double>(st.groups);
@@ -338,6 +348,7 @@ class WedgeBlend final : public ShadowMethod {
 
  private:
   WedgeConstruction construction_;
+  bool alpha_stsv_;
 };
 
 }  // namespace
@@ -347,12 +358,13 @@ void register_wedge_blend(MethodRegistry& registry) {
   info.name = "wedge_blend";
   info.summary =
       "penumbra-wedge blending: per caster group an SV-buffer of four light parts (occlusion, "
-      "bounding rectangle), blended with the effective overlapped area heuristic";
-  info.reference = "[Forest 2008 §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4]";
+      "bounding rectangle), blended with the effective overlapped area heuristic; perforated "
+      "triangles through soft textured shadow volumes (alpha=stsv)";
+  info.reference = "[Forest 2008 §3.2, Algorithms 4-6, eq. 3.1, §3.3.3-3.3.4, §5.2.1]";
   info.sample_exact = false;
-  info.options = {wedge_construction_option()};
+  info.options = {wedge_construction_option(), stsv::alpha_option()};
   info.create = [](const MethodOptions& o) {
-    return std::make_unique<WedgeBlend>(wedge_construction_of(o));
+    return std::make_unique<WedgeBlend>(wedge_construction_of(o), stsv::uses_stsv(o));
   };
   registry.add(std::move(info));
 }

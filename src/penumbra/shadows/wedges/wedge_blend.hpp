@@ -39,6 +39,6 @@ struct WedgeBlendStats {
 /// lights) and V = its Rec. 709 luminance ratio, as `wedges`.
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr,
                                     WedgeConstruction construction = WedgeConstruction::paper,
-                                    Image<Vec3>* lit_rgb = nullptr);
+                                    Image<Vec3>* lit_rgb = nullptr, bool alpha_stsv = true);
 
 }  // namespace penumbra

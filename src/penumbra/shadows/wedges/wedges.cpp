@@ -10,6 +10,7 @@
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
+#include "penumbra/shadows/wedges/stsv_mask.hpp"
 
 namespace penumbra {
 
@@ -241,7 +242,10 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
   WedgeStats st;
   WedgeOptions options = options_in;
   const auto start = std::chrono::steady_clock::now();
-  const FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
+  FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
+  // Forest 2008 Algorithm 12 lines 5–6: perforated triangles leave the wedges for the STSV pass.
+  stsv::Perforated perforated;
+  if (options.alpha_stsv) perforated = stsv::take_perforated(ctx.scene, shared.casters);
   st.silhouettes_ms += elapsed_ms(start);  // the adjacency silhouettes need (and the pixel setup)
   const Light& light = ctx.light;
   // Light splitting [Assarsson 2003 IV §5.2]: rectangles only (a sub-square of a disk is not a
@@ -263,6 +267,9 @@ Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& opti
       }
     }
   }
+  if (options.alpha_stsv)  // §5.2.1: the STSV V_coef added to the wedges' (lines 13–14)
+    st.stsv = stsv::subtract_stsv_occlusion(ctx, shared.setup, std::move(perforated), vis,
+                                            lit_rgb && !lit_rgb->empty() ? lit_rgb : nullptr);
   if (stats_out) *stats_out = st;
   return vis;
 }
@@ -298,11 +305,14 @@ void register_wedges(MethodRegistry& registry) {
   info.name = "wedges";
   info.summary =
       "soft shadow volumes: hard count from the light centre plus analytic penumbra-wedge "
-      "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB)";
-  info.reference = "[Assarsson 2003 III §3, IV §4–5; Forest 2008 §3.1, App. 3.B]";
+      "coverage per silhouette edge (rectangle, disk, sphere lights; textured rectangles in RGB); "
+      "perforated triangles through soft textured shadow volumes, their per-sample V_coef added "
+      "(alpha=stsv)";
+  info.reference = "[Assarsson 2003 III §3, IV §4–5; Forest 2008 §3.1, App. 3.B, §5.2.1]";
   info.sample_exact = false;
   info.options = {
       wedge_construction_option(),
+      stsv::alpha_option(),
       {"split",
        OptionType::integer,
        "1",
@@ -347,6 +357,7 @@ void register_wedges(MethodRegistry& registry) {
     WedgeOptions w;
     w.construction = wedge_construction_of(o);
     w.split = o.get_int("split");
+    w.alpha_stsv = stsv::uses_stsv(o);
     w.overlap = o.get_bool("overlap");
     w.texture = o.get_choice("coverage") == "texture";
     w.texture_n = o.get_int("texture_n");
@@ -385,6 +396,7 @@ void report_wedge_stats(const WedgeStats& st, const char* pass2_stage, Visibilit
   v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
   v.counters["light_plane_fallbacks"] = static_cast<double>(st.plane_fallbacks);
   v.counters["wedge_construction_fallbacks"] = static_cast<double>(st.wedge_fallbacks);
+  stsv::report(st.stsv, v);
 }
 
 }  // namespace penumbra

@@ -29,6 +29,7 @@
 #include "penumbra/shadows/method.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
 #include "penumbra/shadows/wedges/geometry.hpp"
+#include "penumbra/shadows/wedges/stsv.hpp"
 
 namespace penumbra {
 
@@ -48,6 +49,9 @@ struct WedgeOptions {
   bool texture = false;
   int texture_n = 32;
   CoverageTexture::Lookup lookup = CoverageTexture::Lookup::bilinear;
+  /// Perforated (alpha-textured) triangles through soft textured shadow volumes, their bitmask
+  /// V_coef added to the wedges' [Forest 2008 §5.2.1, wedges/stsv_mask.hpp]; false: solid.
+  bool alpha_stsv = true;
   /// The table, built by wedge_visibility when null (the method builds it once).
   std::shared_ptr<const CoverageTexture> table;
 };
@@ -62,6 +66,7 @@ struct WedgeStats {
   uint64_t plane_fallbacks = 0;  // pixels in the light's plane: no coverage (hard count only)
   size_t wedge_fallbacks = 0;    // wedges missing a plane of their construction (looser)
   double silhouettes_ms = 0.0, pass1_ms = 0.0, wedges_ms = 0.0, pass2_ms = 0.0;
+  stsv::Summary stsv;  // the S-triangles' pass (alpha=stsv)
 };
 
 /// Writes the stage times and counters both wedge methods report into `vis`; the second pass's
