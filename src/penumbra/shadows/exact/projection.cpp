@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <tuple>
 
+#include "penumbra/shadows/exact/bvh.hpp"
 #include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
@@ -99,6 +100,9 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
     out.planes[k].n = normals[k];
     out.planes[k].d = offsets[k] + glm::dot(normals[k], receiver);
   }
+  // The clip half-spaces of project_polygon, in its order (f ≥ 0).
+  out.clip_n = {out.to_w, -out.to_w, out.to_u, out.to_w - out.to_u, out.to_v, out.to_w - out.to_v};
+  out.clip_c = {-kMinW, kShadowSegmentEnd, 0.0, 0.0, 0.0, 0.0};
   return true;
 }
 
@@ -118,17 +122,45 @@ bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& 
   return true;
 }
 
-bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
-                     ClipperLib::Path& out) {
-  out.clear();
-  if (count < 3 || count > kMaxPolygon) return false;
-  // Each of the six clips adds at most one vertex to a convex polygon.
-  constexpr int kCapacity = kMaxPolygon + 8;
+int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
+  // Against project_polygon's own six half-spaces f_k ≥ 0: a box with f_k < 0 throughout for one
+  // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
+  // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
+  const DVec3 rlo = DVec3(lo) - proj.origin, rhi = DVec3(hi) - proj.origin;
+  const DVec3 big = glm::max(glm::abs(rlo), glm::abs(rhi));
+  bool inside = true;
+  for (int k = 0; k < 6; ++k) {
+    const DVec3& n = proj.clip_n[k];
+    const double c = proj.clip_c[k];
+    double min_f = c, max_f = c;
+    for (int i = 0; i < 3; ++i) {
+      const double a = n[i] * rlo[i], b = n[i] * rhi[i];
+      min_f += std::min(a, b);
+      max_f += std::max(a, b);
+    }
+    const double margin = 1e-9 * (std::abs(c) + glm::dot(glm::abs(n), big));
+    if (max_f < -margin) return ExactBvh::kOutside;
+    inside = inside && min_f > margin;
+  }
+  return inside ? ExactBvh::kInside : ExactBvh::kPartial;
+}
+
+void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                  ClippedPolygon& out) {
+  out.n = 0;
+  if (count < 3 || count > kMaxPolygon) return;
+  constexpr int kCapacity = ClippedPolygon::kCapacity;
   DVec3 buf_a[kCapacity], buf_b[kCapacity];
+  int8_t edge_a[kCapacity], edge_b[kCapacity];
   DVec3* in = buf_a;
   DVec3* next = buf_b;
+  int8_t* in_edge = edge_a;
+  int8_t* next_edge = edge_b;
   int n = count;
-  for (int i = 0; i < count; ++i) in[i] = proj.homogeneous(vertices[i]);
+  for (int i = 0; i < count; ++i) {
+    in[i] = proj.homogeneous(vertices[i]);
+    in_edge[i] = static_cast<int8_t>(i);
+  }
 
   // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
   const auto f = [](int plane, const DVec3& h) {
@@ -161,26 +193,43 @@ bool project_polygon(const LightProjection& proj, const DVec3* vertices, int cou
       if ((fv[i] >= 0.0) != (fv[j] >= 0.0)) {
         // Interpolate from the lexicographically smaller end: an edge shared by two polygons
         // (traversed in opposite directions) then clips to bit-identical points, so its two
-        // copies still cancel in cancel_shared_edges.
+        // copies still cancel.
         const bool j_first =
             std::tie(in[j].x, in[j].y, in[j].z) < std::tie(in[i].x, in[i].y, in[i].z);
         const int a = j_first ? j : i, b = j_first ? i : j;
         const double t = fv[a] / (fv[a] - fv[b]);
-        next[m++] = in[a] + t * (in[b] - in[a]);
+        next[m] = in[a] + t * (in[b] - in[a]);
+        // Entering (j outside): the rest of the edge j → i follows. Leaving: the next point is
+        // where the polygon re-enters, along this plane.
+        next_edge[m++] = fv[i] >= 0.0 ? in_edge[j] : ClippedPolygon::kClipEdge;
       }
-      if (fv[i] >= 0.0) next[m++] = in[i];
+      if (fv[i] >= 0.0) {
+        next[m] = in[i];
+        next_edge[m++] = in_edge[i];
+      }
     }
     std::swap(in, next);
+    std::swap(in_edge, next_edge);
     n = m;
   }
-  if (n < 3) return false;
-
-  out.reserve(n);
+  out.n = n;
   for (int i = 0; i < n; ++i) {
     const DVec3& h = in[i];
-    const IntPoint q(to_clipper(h.x / h.z), to_clipper(h.y / h.z));
-    if (!out.empty() && out.back() == q) continue;
-    out.push_back(q);
+    out.q[i] = IntPoint(to_clipper(h.x / h.z), to_clipper(h.y / h.z));
+    out.edge[i] = in_edge[i];
+  }
+}
+
+bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                     ClipperLib::Path& out) {
+  out.clear();
+  ClippedPolygon clipped;
+  clip_polygon(proj, vertices, count, clipped);
+  if (clipped.n < 3) return false;
+  out.reserve(clipped.n);
+  for (int i = 0; i < clipped.n; ++i) {
+    if (!out.empty() && out.back() == clipped.q[i]) continue;
+    out.push_back(clipped.q[i]);
   }
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
   if (out.size() < 3) {
@@ -243,7 +292,20 @@ double paths_area(const Paths& paths) {
   return a;
 }
 
+void append_polygon_edges(std::span<const Path> polygons, std::vector<DirectedEdge>& edges) {
+  for (const Path& p : polygons)
+    for (size_t i = 0; i < p.size(); ++i) edges.push_back({p[i], p[(i + 1) % p.size()]});
+}
+
 Paths cancel_shared_edges(std::span<const Path> polygons) {
+  std::vector<DirectedEdge> edges;
+  append_polygon_edges(polygons, edges);
+  Paths loops;
+  loops.resize(trace_loops(edges, loops));
+  return loops;
+}
+
+size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
   // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
   // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
   // time). Points pack into 64 bits since coordinates are in [0, 2^30). The table is reused per
@@ -257,10 +319,8 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
     uint64_t lo = 0, hi = 0;
     int64_t net = 0;
   };
-  size_t count = 0;
-  for (const Path& p : polygons) count += p.size();
   size_t capacity = 16;
-  while (capacity < 2 * count) capacity *= 2;
+  while (capacity < 2 * edges.size()) capacity *= 2;
   thread_local std::vector<Slot> table;
   thread_local std::vector<size_t> used;
   if (table.size() < capacity) table.assign(capacity, Slot{});
@@ -268,31 +328,24 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   const auto pack = [](const IntPoint& q) {
     return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
   };
-  for (const Path& p : polygons) {
-    for (size_t i = 0; i < p.size(); ++i) {
-      const IntPoint& a = p[i];
-      const IntPoint& b = p[(i + 1) % p.size()];
-      if (a == b) continue;
-      const uint64_t ka = pack(a), kb = pack(b);
-      const bool forward = ka < kb;  // the same order as `less` on (X, Y)
-      const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
-      size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
-      while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
-        h = (h + 1) & (capacity - 1);
-      Slot& slot = table[h];
-      if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
-        slot.lo = lo;
-        slot.hi = hi;
-        used.push_back(h);
-      }
-      slot.net += forward ? 1 : -1;
+  for (const DirectedEdge& e : edges) {
+    if (e.from == e.to) continue;
+    const uint64_t ka = pack(e.from), kb = pack(e.to);
+    const bool forward = ka < kb;  // the same order as `less` on (X, Y)
+    const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
+    size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
+    while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
+      h = (h + 1) & (capacity - 1);
+    Slot& slot = table[h];
+    if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
+      slot.lo = lo;
+      slot.hi = hi;
+      used.push_back(h);
     }
+    slot.net += forward ? 1 : -1;
   }
-  // The surviving directed edges, sorted by their start.
-  struct Directed {
-    IntPoint from, to;
-  };
-  thread_local std::vector<Directed> kept;
+  // The surviving directed edges, sorted by their start (edges is reused for them).
+  std::vector<DirectedEdge>& kept = edges;
   kept.clear();
   const auto unpack = [](uint64_t k) {
     return IntPoint(static_cast<cInt>(k >> 32), static_cast<cInt>(k & 0xFFFFFFFFull));
@@ -301,37 +354,41 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
     Slot& slot = table[h];
     const IntPoint lo = unpack(slot.lo), hi = unpack(slot.hi);
     for (int64_t k = 0; k < std::abs(slot.net); ++k)
-      kept.push_back(slot.net > 0 ? Directed{lo, hi} : Directed{hi, lo});
+      kept.push_back(slot.net > 0 ? DirectedEdge{lo, hi} : DirectedEdge{hi, lo});
     slot = Slot{};
   }
-  std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
+  std::sort(kept.begin(), kept.end(), [&](const DirectedEdge& x, const DirectedEdge& y) {
     if (x.from != y.from) return less(x.from, y.from);
     return less(x.to, y.to);
   });
-  // Trace closed walks. Every vertex has as many kept edges in as out (each polygon is a cycle
-  // and a cancelled pair removes one of each), so a walk can always leave any vertex it entered
-  // and must end where it started. Edges leaving one vertex are consumed in order via a cursor at
+  // Trace closed walks. Every vertex has as many kept edges in as out (each chain is closed and
+  // a cancelled pair removes one of each), so a walk can always leave any vertex it entered and
+  // must end where it started. Edges leaving one vertex are consumed in order via a cursor at
   // the first edge of their group.
   thread_local std::vector<size_t> cursor;
   cursor.resize(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
   const auto group_of = [&](const IntPoint& v) {
-    return static_cast<size_t>(
-        std::lower_bound(kept.begin(), kept.end(), v,
-                         [&](const Directed& e, const IntPoint& q) { return less(e.from, q); }) -
-        kept.begin());
+    return static_cast<size_t>(std::lower_bound(kept.begin(), kept.end(), v,
+                                                [&](const DirectedEdge& e, const IntPoint& q) {
+                                                  return less(e.from, q);
+                                                }) -
+                               kept.begin());
   };
   const auto group_end = [&](size_t g) {
     size_t e = g;
     while (e < kept.size() && kept[e].from == kept[g].from) ++e;
     return e;
   };
-  Paths loops;
+  size_t count = 0;
   for (size_t g = 0; g < kept.size();) {
     const size_t end = group_end(g);
     while (cursor[g] < end) {
+      if (loops.size() == count) loops.emplace_back();
+      Path& loop = loops[count];
+      loop.clear();
       const IntPoint start = kept[g].from;
-      Path loop{start};
+      loop.push_back(start);
       IntPoint at = kept[cursor[g]++].to;
       while (at != start) {
         loop.push_back(at);
@@ -340,11 +397,11 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
           break;  // unreachable
         at = kept[cursor[h]++].to;
       }
-      if (loop.size() >= 3) loops.push_back(std::move(loop));
+      if (loop.size() >= 3) ++count;
     }
     g = end;
   }
-  return loops;
+  return count;
 }
 
 Paths union_polygons(const Paths& polygons, size_t group) {
@@ -377,20 +434,20 @@ Paths union_polygons(const Paths& polygons, size_t group) {
   return level.empty() ? Paths{} : std::move(level[0]);
 }
 
-std::vector<LightRegion> visible_regions(const LightOutline& outline, std::span<const Path> opaque,
+std::vector<LightRegion> visible_regions(const LightOutline& outline,
+                                         std::span<const Path> opaque_loops,
                                          const std::vector<SemiPolygon>& semi) {
   std::vector<LightRegion> regions(1);
-  if (opaque.empty()) {
+  if (opaque_loops.empty()) {
     regions[0].paths = {outline.path};
   } else {
     ClipperLib::Clipper c;
     c.AddPath(outline.path, ClipperLib::ptSubject, true);
-    const Paths loops =
-        opaque.size() > 1 ? cancel_shared_edges(opaque) : Paths(opaque.begin(), opaque.end());
-    if (loops.size() <= kUnionGroup) {
-      c.AddPaths(loops, ClipperLib::ptClip, true);
+    if (opaque_loops.size() <= kUnionGroup) {
+      for (const Path& loop : opaque_loops) c.AddPath(loop, ClipperLib::ptClip, true);
     } else {
-      c.AddPaths(union_polygons(loops, kUnionGroup), ClipperLib::ptClip, true);
+      c.AddPaths(union_polygons(Paths(opaque_loops.begin(), opaque_loops.end()), kUnionGroup),
+                 ClipperLib::ptClip, true);
     }
     c.Execute(ClipperLib::ctDifference, regions[0].paths, ClipperLib::pftNonZero,
               ClipperLib::pftNonZero);
