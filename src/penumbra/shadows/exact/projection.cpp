@@ -24,7 +24,11 @@ uint64_t splitmix(uint64_t x) {
 }
 
 cInt to_clipper(double uv) {
-  return static_cast<cInt>(std::llround(std::clamp(uv, 0.0, 1.0) * kUvScale));
+  // llround of a value ≥ 0 (half away from zero), without the library call: x − floor(x) is
+  // exact in floating point.
+  const double x = std::clamp(uv, 0.0, 1.0) * kUvScale;
+  const double f = std::floor(x);
+  return static_cast<cInt>(f) + (x - f >= 0.5 ? 1 : 0);
 }
 
 /// Sutherland–Hodgman against one axis-aligned half-plane: keeps points with
@@ -66,6 +70,32 @@ void to_uv(const Path& path, std::vector<DVec2>& out) {
     out.emplace_back(static_cast<double>(q.X) / kUvScale, static_cast<double>(q.Y) / kUvScale);
 }
 
+/// Removes, in place, every vertex of a closed loop that lies on the line through its neighbours
+/// (exact integer cross product: coordinates are below 2^31, so it fits 64 bits). The winding
+/// number changes only on those lines, a set of measure zero: the loop's union area is the same.
+/// Mostly the runs of pieces along the light's sides, one per clipped triangle, which would
+/// otherwise cost the union a scanbeam each.
+void drop_collinear(Path& loop) {
+  const auto collinear = [](const IntPoint& a, const IntPoint& b, const IntPoint& c) {
+    return (b.X - a.X) * (c.Y - a.Y) == (b.Y - a.Y) * (c.X - a.X);
+  };
+  size_t n = loop.size();
+  if (n < 3) return;
+  size_t out = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // Compare against the last vertex kept (or the loop's last one for the first vertex).
+    const IntPoint& prev = out > 0 ? loop[out - 1] : loop[n - 1];
+    const IntPoint& next = loop[i + 1 < n ? i + 1 : 0];
+    if (collinear(prev, loop[i], next)) continue;
+    loop[out++] = loop[i];
+  }
+  loop.resize(out);
+  // The wrap-around: the first kept vertices may have become collinear with the last ones.
+  while (loop.size() >= 3 && collinear(loop[loop.size() - 2], loop.back(), loop[0]))
+    loop.pop_back();
+  while (loop.size() >= 3 && collinear(loop.back(), loop[0], loop[1])) loop.erase(loop.begin());
+}
+
 }  // namespace
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
@@ -103,6 +133,19 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
   // The clip half-spaces of project_polygon, in its order (f ≥ 0).
   out.clip_n = {out.to_w, -out.to_w, out.to_u, out.to_w - out.to_u, out.to_v, out.to_w - out.to_v};
   out.clip_c = {-kMinW, kShadowSegmentEnd, 0.0, 0.0, 0.0, 0.0};
+  LightProjection::Lanes& l = out.lanes;
+  for (int k = 0; k < 8; ++k) {
+    const DVec3 n = k < 6 ? out.clip_n[k] : DVec3(0.0);
+    const double c = k < 6 ? out.clip_c[k] : 1.0;
+    l.nx[k] = n.x;
+    l.ny[k] = n.y;
+    l.nz[k] = n.z;
+    l.c[k] = c;
+    l.ax[k] = std::abs(n.x);
+    l.ay[k] = std::abs(n.y);
+    l.az[k] = std::abs(n.z);
+    l.ac[k] = std::abs(c);
+  }
   return true;
 }
 
@@ -126,23 +169,25 @@ int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
   // Against project_polygon's own six half-spaces f_k ≥ 0: a box with f_k < 0 throughout for one
   // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
   // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
-  const DVec3 rlo = DVec3(lo) - proj.origin, rhi = DVec3(hi) - proj.origin;
-  const DVec3 big = glm::max(glm::abs(rlo), glm::abs(rhi));
-  bool inside = true;
-  for (int k = 0; k < 6; ++k) {
-    const DVec3& n = proj.clip_n[k];
-    const double c = proj.clip_c[k];
-    double min_f = c, max_f = c;
-    for (int i = 0; i < 3; ++i) {
-      const double a = n[i] * rlo[i], b = n[i] * rhi[i];
-      min_f += std::min(a, b);
-      max_f += std::max(a, b);
-    }
-    const double margin = 1e-9 * (std::abs(c) + glm::dot(glm::abs(n), big));
-    if (max_f < -margin) return ExactBvh::kOutside;
-    inside = inside && min_f > margin;
+  // Eight lanes without branches, so the compiler vectorises the loop.
+  const double lx = lo.x - proj.origin.x, ly = lo.y - proj.origin.y, lz = lo.z - proj.origin.z;
+  const double hx = hi.x - proj.origin.x, hy = hi.y - proj.origin.y, hz = hi.z - proj.origin.z;
+  const double bx = std::max(std::abs(lx), std::abs(hx)), by = std::max(std::abs(ly), std::abs(hy)),
+               bz = std::max(std::abs(lz), std::abs(hz));
+  const LightProjection::Lanes& l = proj.lanes;
+  int outside = 0, inside = 0;
+  for (int k = 0; k < 8; ++k) {
+    const double x0 = l.nx[k] * lx, x1 = l.nx[k] * hx;
+    const double y0 = l.ny[k] * ly, y1 = l.ny[k] * hy;
+    const double z0 = l.nz[k] * lz, z1 = l.nz[k] * hz;
+    const double min_f = l.c[k] + std::min(x0, x1) + std::min(y0, y1) + std::min(z0, z1);
+    const double max_f = l.c[k] + std::max(x0, x1) + std::max(y0, y1) + std::max(z0, z1);
+    const double margin = 1e-9 * (l.ac[k] + l.ax[k] * bx + l.ay[k] * by + l.az[k] * bz);
+    outside |= max_f < -margin ? 1 : 0;
+    inside += min_f > margin ? 1 : 0;
   }
-  return inside ? ExactBvh::kInside : ExactBvh::kPartial;
+  if (outside) return ExactBvh::kOutside;
+  return inside == 8 ? ExactBvh::kInside : ExactBvh::kPartial;
 }
 
 void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
@@ -306,13 +351,12 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
 }
 
 size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
+  constexpr uint64_t kNoPoint = ~uint64_t{0};  // never a packed point: coordinates are < 2^31
+  constexpr uint32_t kNoEdge = ~uint32_t{0};
   // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
   // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
   // time). Points pack into 64 bits since coordinates are in [0, 2^30). The table is reused per
   // thread and only the slots a call used are reset, so a call costs its edges, not the table.
-  const auto less = [](const IntPoint& a, const IntPoint& b) {
-    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
-  };
   // 24-byte slots keyed by the packed end points (coordinates are in [0, 2^30), so X·2^32 + Y is
   // exact and 0 is never a valid pair of distinct points: it marks an empty slot).
   struct Slot {
@@ -331,7 +375,7 @@ size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
   for (const DirectedEdge& e : edges) {
     if (e.from == e.to) continue;
     const uint64_t ka = pack(e.from), kb = pack(e.to);
-    const bool forward = ka < kb;  // the same order as `less` on (X, Y)
+    const bool forward = ka < kb;
     const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
     size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
     while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
@@ -344,7 +388,7 @@ size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
     }
     slot.net += forward ? 1 : -1;
   }
-  // The surviving directed edges, sorted by their start (edges is reused for them).
+  // The surviving directed edges (edges is reused for them).
   std::vector<DirectedEdge>& kept = edges;
   kept.clear();
   const auto unpack = [](uint64_t k) {
@@ -357,50 +401,59 @@ size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
       kept.push_back(slot.net > 0 ? DirectedEdge{lo, hi} : DirectedEdge{hi, lo});
     slot = Slot{};
   }
-  std::sort(kept.begin(), kept.end(), [&](const DirectedEdge& x, const DirectedEdge& y) {
-    if (x.from != y.from) return less(x.from, y.from);
-    return less(x.to, y.to);
-  });
   // Trace closed walks. Every vertex has as many kept edges in as out (each chain is closed and
   // a cancelled pair removes one of each), so a walk can always leave any vertex it entered and
-  // must end where it started. Edges leaving one vertex are consumed in order via a cursor at
-  // the first edge of their group.
-  thread_local std::vector<size_t> cursor;
-  cursor.resize(kept.size());
-  for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
-  const auto group_of = [&](const IntPoint& v) {
-    return static_cast<size_t>(std::lower_bound(kept.begin(), kept.end(), v,
-                                                [&](const DirectedEdge& e, const IntPoint& q) {
-                                                  return less(e.from, q);
-                                                }) -
-                               kept.begin());
+  // must end where it started. The edges leaving each point form a list (head in a second hash
+  // table keyed by the point, links in `next`), consumed in input order.
+  struct Head {
+    uint64_t point = kNoPoint;
+    uint32_t first = 0;
   };
-  const auto group_end = [&](size_t g) {
-    size_t e = g;
-    while (e < kept.size() && kept[e].from == kept[g].from) ++e;
-    return e;
+  thread_local std::vector<Head> heads;
+  thread_local std::vector<uint32_t> next;
+  size_t head_capacity = 16;
+  while (head_capacity < 2 * kept.size()) head_capacity *= 2;
+  if (heads.size() < head_capacity) heads.assign(head_capacity, Head{});
+  next.resize(kept.size());
+  const auto find_head = [&](uint64_t point) -> size_t {
+    size_t h = static_cast<size_t>(splitmix(point)) & (head_capacity - 1);
+    while (heads[h].point != kNoPoint && heads[h].point != point) h = (h + 1) & (head_capacity - 1);
+    return h;
   };
-  size_t count = 0;
-  for (size_t g = 0; g < kept.size();) {
-    const size_t end = group_end(g);
-    while (cursor[g] < end) {
-      if (loops.size() == count) loops.emplace_back();
-      Path& loop = loops[count];
-      loop.clear();
-      const IntPoint start = kept[g].from;
-      loop.push_back(start);
-      IntPoint at = kept[cursor[g]++].to;
-      while (at != start) {
-        loop.push_back(at);
-        const size_t h = group_of(at);
-        if (h >= kept.size() || kept[h].from != at || cursor[h] >= group_end(h))
-          break;  // unreachable
-        at = kept[cursor[h]++].to;
-      }
-      if (loop.size() >= 3) ++count;
+  used.clear();
+  for (size_t i = kept.size(); i-- > 0;) {
+    const size_t h = find_head(pack(kept[i].from));
+    Head& head = heads[h];
+    if (head.point == kNoPoint) {
+      used.push_back(h);
+      next[i] = kNoEdge;
+    } else {
+      next[i] = head.first;
     }
-    g = end;
+    head.point = pack(kept[i].from);
+    head.first = static_cast<uint32_t>(i);
   }
+  size_t count = 0;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (heads[find_head(pack(kept[i].from))].first == kNoEdge)
+      continue;  // every edge leaving this point is used
+    if (loops.size() == count) loops.emplace_back();
+    Path& loop = loops[count];
+    loop.clear();
+    const IntPoint start = kept[i].from;
+    IntPoint at = start;
+    do {
+      loop.push_back(at);
+      Head& head = heads[find_head(pack(at))];
+      if (head.point == kNoPoint || head.first == kNoEdge) break;  // unreachable: chains close
+      const uint32_t e = head.first;
+      head.first = next[e];
+      at = kept[e].to;
+    } while (at != start);
+    drop_collinear(loop);
+    if (loop.size() >= 3) ++count;
+  }
+  for (const size_t h : used) heads[h] = Head{};
   return count;
 }
 

@@ -46,6 +46,10 @@ struct LightProjection {
   /// clip_c[k] ≥ 0: W ≥ kMinW, W ≤ kShadowSegmentEnd, U ≥ 0, U ≤ W, V ≥ 0, V ≤ W (classify_box).
   std::array<DVec3, 6> clip_n;
   std::array<double, 6> clip_c{};
+  /// The same six half-spaces laid out for classify_box's vector loop (lane 6, 7: always inside).
+  struct alignas(64) Lanes {
+    double nx[8], ny[8], nz[8], c[8], ax[8], ay[8], az[8], ac[8];  // a: absolute values
+  } lanes;
 
   DVec3 homogeneous(const DVec3& x) const {
     const DVec3 d = x - origin;
