@@ -308,7 +308,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   sc.tri.clear();
   sc.edges.clear();
   size_t clipped_count = 0;
-  uint32_t kept = 0, pieces = 0;
+  uint32_t kept = 0, pieces = 0;  // non-degenerate opaque polygons: mesh triangles, alpha pieces
 
   std::vector<SemiPolygon> semi;
   ClipperLib::Path& poly = sc.poly;
@@ -362,10 +362,10 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
         }
         if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
         sc.stamp[prim] = mark | (side > 0.0 ? 1u : 0u);
-        ++kept;
         if (inside) {
           sc.inside.push_back(prim);
           ++r.polygons;
+          ++kept;
           return true;
         }
         if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
@@ -374,7 +374,10 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
         if (c.n == 0) return true;
         ++clipped_count;
         sc.tri.push_back(prim);
-        if (c.n >= 3) ++r.polygons;
+        if (c.n >= 3) {
+          ++r.polygons;
+          ++kept;
+        }
         if (c.n >= 4) {
           // Only a polygon reaching all four sides of the uv square can cover it.
           cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
@@ -437,7 +440,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
   if (kept + pieces == 1 && semi.empty() && !outline.round && !light.textured()) {
     // One convex polygon, already clipped to the uv square that is the whole light: no boolean
-    // (its loops' signed areas sum to its own).
+    // (its loops' signed areas, with any degenerate chains', sum to its own).
     double area = 0.0;
     for (const ClipperLib::Path& loop : loops) area += ClipperLib::Area(loop);
     const double v = 1.0 - std::abs(area) / outline.area;
