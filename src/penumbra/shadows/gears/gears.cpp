@@ -464,8 +464,11 @@ class Gears final : public ShadowMethod {
                   const float pz = cells.sample_z[e];
                   const ItemBounds own = item_bounds(flat, &p.x, &p.y, &pz, 1);
                   constexpr int kChunk = 8 * kLanes;
+                  const ShadowBoxCull box{lo, hi, use_rows ? k : 0};
+                  const ShadowBoxCull* box_cull = pl.axis_aligned ? &box : nullptr;
                   for (int b = 0; b < sc.batch.count && !done; b += kChunk) {
-                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p);
+                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p,
+                                        box_cull);
                     done = rasterize(sc.pixel_batch);
                   }
                 } else {
