@@ -361,6 +361,14 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
           return true;
         }
         if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
+        if (!inside) {
+          // The leaf straddles the pyramid; the triangle itself often does not (its own box).
+          const Vec3 a(o.v[0]), b(o.v[1]), c(o.v[2]);
+          const int own =
+              classify_box(proj, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+          if (own == ExactBvh::kOutside) return true;  // projects to nothing
+          inside = own == ExactBvh::kInside;
+        }
         sc.stamp[prim] = mark | (side > 0.0 ? 1u : 0u);
         if (inside) {
           sc.inside.push_back(prim);
