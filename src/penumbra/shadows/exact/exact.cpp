@@ -444,7 +444,9 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   if (sc.edges.empty() && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
-  const size_t loop_count = trace_loops(sc.edges, sc.loops);
+  // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need the
+  // hash.
+  const size_t loop_count = trace_loops(sc.edges, sc.loops, pieces > 0);
   const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
   if (kept + pieces == 1 && semi.empty() && !outline.round && !light.textured()) {
     // One convex polygon, already clipped to the uv square that is the whole light: no boolean

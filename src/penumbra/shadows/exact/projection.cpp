@@ -350,9 +350,10 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   return loops;
 }
 
-size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
-  constexpr uint64_t kNoPoint = ~uint64_t{0};  // never a packed point: coordinates are < 2^31
-  constexpr uint32_t kNoEdge = ~uint32_t{0};
+namespace {
+
+/// Removes every pair of opposite copies of one segment from `edges` (and zero-length edges).
+void cancel_opposite_edges(std::vector<DirectedEdge>& edges) {
   // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
   // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
   // time). Points pack into 64 bits since coordinates are in [0, 2^30). The table is reused per
@@ -401,6 +402,25 @@ size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops) {
       kept.push_back(slot.net > 0 ? DirectedEdge{lo, hi} : DirectedEdge{hi, lo});
     slot = Slot{};
   }
+}
+
+}  // namespace
+
+size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops, bool cancel) {
+  constexpr uint64_t kNoPoint = ~uint64_t{0};  // never a packed point: coordinates are < 2^31
+  constexpr uint32_t kNoEdge = ~uint32_t{0};
+  const auto pack = [](const IntPoint& q) {
+    return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
+  };
+  thread_local std::vector<size_t> used;
+  if (cancel) {
+    cancel_opposite_edges(edges);
+  } else {
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [](const DirectedEdge& e) { return e.from == e.to; }),
+                edges.end());
+  }
+  std::vector<DirectedEdge>& kept = edges;
   // Trace closed walks. Every vertex has as many kept edges in as out (each chain is closed and
   // a cancelled pair removes one of each), so a walk can always leave any vertex it entered and
   // must end where it started. The edges leaving each point form a list (head in a second hash

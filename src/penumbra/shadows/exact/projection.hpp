@@ -104,9 +104,10 @@ struct DirectedEdge {
 };
 /// Closed loops with the same winding-number field as `edges`, a union of closed chains (at every
 /// point as many edges arrive as leave), with every pair of opposite copies of one segment
-/// removed. `edges` is used as scratch. The loops are written to loops[0, count), count returned;
-/// `loops` only grows, so a buffer reused from pixel to pixel keeps its paths' capacity.
-size_t trace_loops(std::vector<DirectedEdge>& edges, ClipperLib::Paths& loops);
+/// removed (cancel = false keeps them: the same winding field, for edge sets known to have none
+/// worth the hash). `edges` is used as scratch. The loops are written to loops[0, count), count
+/// returned; `loops` only grows, so a buffer reused from pixel to pixel keeps its paths' capacity.
+size_t trace_loops(std::vector<DirectedEdge>& edges, ClipperLib::Paths& loops, bool cancel = true);
 
 /// The emitting shape in light uv: the unit square, or for round lights a regular polygon with the
 /// same area as the inscribed circle (see make_light_outline for the error this causes).
