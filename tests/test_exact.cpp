@@ -583,7 +583,7 @@ TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
     Pcg32 rng(12, 13);
     int shadowed = 0;
     double max_diff = 0.0;
-    for (int k = 0; k < 60; ++k) {
+    for (int k = 0; k < 30; ++k) {
       const Vec3 p(-1.2f + 2.4f * rng.next_float(), 0.0f, -1.2f + 2.4f * rng.next_float());
       const LightFrame f = light_frame(s.lights[0], p);
       LightProjection proj;
@@ -608,7 +608,7 @@ TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
     }
     std::printf("%s: %d shadowed receivers, max |V - direct union| %.3g\n", name, shadowed,
                 max_diff);
-    EXPECT_GT(shadowed, 10);
+    EXPECT_GT(shadowed, 5);
   }
 }
 
