@@ -535,6 +535,21 @@ TEST(Exact, SpheresSceneAgreesWithBruteForceSampling) {
   }
 }
 
+/// Every occluder triangle of `es` projected from p onto the light (project_polygon), none skipped.
+ClipperLib::Paths projected_triangles(const ExactScene& es, const Light& light, const Vec3& p) {
+  const LightFrame f = light_frame(light, p);
+  LightProjection proj;
+  ClipperLib::Paths polys;
+  if (!make_light_projection(DVec3(p), DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), proj)) {
+    ADD_FAILURE() << "no projection";
+    return polys;
+  }
+  ClipperLib::Path poly;
+  for (const ExactOccluder& o : es.occluders())
+    if (project_polygon(proj, o.v, 3, poly)) polys.push_back(poly);
+  return polys;
+}
+
 TEST(Exact, EdgeCancellationKeepsTheUnion) {
   // The projected triangles of the spheres scene from ground points: the union of the cancelled
   // loops must have the area of Clipper's direct union of all triangles.
@@ -544,14 +559,7 @@ TEST(Exact, EdgeCancellationKeepsTheUnion) {
   int tested = 0;
   for (int k = 0; k < 40; ++k) {
     const Vec3 p(-0.9f + 1.8f * rng.next_float(), 0.0f, -0.9f + 1.8f * rng.next_float());
-    const LightFrame f = light_frame(s.lights[0], p);
-    LightProjection proj;
-    ASSERT_TRUE(
-        make_light_projection(DVec3(p), DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), proj));
-    ClipperLib::Paths polys;
-    ClipperLib::Path poly;
-    for (const ExactOccluder& o : es.occluders())
-      if (project_polygon(proj, o.v, 3, poly)) polys.push_back(poly);
+    const ClipperLib::Paths polys = projected_triangles(es, s.lights[0], p);
     if (polys.size() < 10) continue;
     ++tested;
     const ClipperLib::Paths loops = cancel_shared_edges(polys);
@@ -585,14 +593,7 @@ TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
     double max_diff = 0.0;
     for (int k = 0; k < 30; ++k) {
       const Vec3 p(-1.2f + 2.4f * rng.next_float(), 0.0f, -1.2f + 2.4f * rng.next_float());
-      const LightFrame f = light_frame(s.lights[0], p);
-      LightProjection proj;
-      ASSERT_TRUE(
-          make_light_projection(DVec3(p), DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), proj));
-      ClipperLib::Paths polys;
-      ClipperLib::Path poly;
-      for (const ExactOccluder& o : full.occluders())
-        if (project_polygon(proj, o.v, 3, poly)) polys.push_back(poly);
+      const ClipperLib::Paths polys = projected_triangles(full, s.lights[0], p);
       ClipperLib::Clipper c;
       c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
       c.AddPaths(polys, ClipperLib::ptClip, true);

@@ -63,14 +63,23 @@ inline vi floor_small(vf y) {
   return __builtin_convertvector(y + 64.0f, vi) - 64;
 }
 
+/// The vertices of batch lanes [first, first + 16) relative to the pixel point p: ax ay az bx … cz.
+inline void relative_vertices(const CandidateBatch& batch, int first, vf px, vf py, vf pz,
+                              vf r[9]) {
+  for (int c = 0; c < 9; ++c)
+    r[c] = load(&batch.v[c][first]) - (c % 3 == 0 ? px : c % 3 == 1 ? py : pz);
+}
+
 /// Separating-axis completion of the setup for the common case, 16 lanes: all three vertices
 /// (a, b, c, relative to the pixel point p) between the light plane and p (−p.z < a.z < 0). The
 /// triangle's shadow on the light is then the triangle of its vertices' projections from p, so
 /// its uv bounds must overlap the sample box [uv_lo, uv_hi] — and, with grid_k > 0, hold a sample
 /// centre. False only where that fails; lanes not between pass. Shared by setup_batch and the
 /// per-pixel cull (CandidateBatch::keep), which must compute bit-identical decisions.
-inline vi shadow_box_holds_samples(vf ax, vf ay, vf az, vf bx, vf by, vf bz, vf cx, vf cy, vf cz,
-                                   vf px, vf py, vf pzv, Vec2 uv_lo, Vec2 uv_hi, int grid_k) {
+inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_lo, Vec2 uv_hi,
+                                   int grid_k) {
+  const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
+           cz = r[8];
   const vi between =
       (az < 0.0f) & (az > -pzv) & (bz < 0.0f) & (bz > -pzv) & (cz < 0.0f) & (cz > -pzv);
   const vf ta = pzv / -az, tb = pzv / -bz, tc = pzv / -cz;
@@ -174,14 +183,9 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
     if (box != nullptr && movemask(kept) != 0) {
       // setup_batch's shadow-box test, moved ahead of it with the same arithmetic: it rejects the
       // same triangles, only before their edge planes are built (dense meshes: most of them).
-      const vf ax = load(&from.v[0][first]) - px, ay = load(&from.v[1][first]) - py,
-               az = load(&from.v[2][first]) - pz;
-      const vf bx = load(&from.v[3][first]) - px, by = load(&from.v[4][first]) - py,
-               bz = load(&from.v[5][first]) - pz;
-      const vf cx = load(&from.v[6][first]) - px, cy = load(&from.v[7][first]) - py,
-               cz = load(&from.v[8][first]) - pz;
-      kept &= shadow_box_holds_samples(ax, ay, az, bx, by, bz, cx, cy, cz, px, py, pz, box->uv_lo,
-                                       box->uv_hi, box->grid_k);
+      vf r[9];
+      relative_vertices(from, first, px, py, pz, r);
+      kept &= shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k);
     }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
@@ -218,12 +222,10 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
                      Vec2 uv_hi, int grid_k, LineBatch& out) {
   const vf px = splat(light.p.x), py = splat(light.p.y), pz = splat(light.p.z);
   // Vertices relative to the pixel point.
-  const vf ax = load(&batch.v[0][first]) - px, ay = load(&batch.v[1][first]) - py,
-           az = load(&batch.v[2][first]) - pz;
-  const vf bx = load(&batch.v[3][first]) - px, by = load(&batch.v[4][first]) - py,
-           bz = load(&batch.v[5][first]) - pz;
-  const vf cx = load(&batch.v[6][first]) - px, cy = load(&batch.v[7][first]) - py,
-           cz = load(&batch.v[8][first]) - pz;
+  vf r[9];
+  relative_vertices(batch, first, px, py, pz, r);
+  const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
+           cz = r[8];
   // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [Wang 2014 §4.2: "an edge plane is defined by a
   // triangle edge and the eye of the camera that computes the bitmask"].
   vf nx[3], ny[3], nz[3];
@@ -269,9 +271,7 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
     store(out.b[m], B[m]);
     store(out.c[m], C[m]);
   }
-  if (light.axis_aligned)
-    ok &= shadow_box_holds_samples(ax, ay, az, bx, by, bz, cx, cy, cz, px, py, splat(light.p.z),
-                                   uv_lo, uv_hi, grid_k);
+  if (light.axis_aligned) ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k);
   const int live = std::min(kLanes, batch.count - first);
   const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
   if (grid_k > 0 && result != 0) {
