@@ -343,12 +343,13 @@ void link_neighbours(std::vector<ExactOccluder>& occluders, const std::vector<ui
 /// owns a contiguous range) and returns that range.
 std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
                                               const std::vector<ExactOccluder>& occluders,
+                                              const std::vector<DVec3>& unit_normals,
                                               uint32_t index, std::vector<ExactNodeCone>& cones) {
   const ExactBvh::Node& node = bvh.nodes()[index];
   std::pair<uint32_t, uint32_t> range{node.first, node.first + node.count};
   if (node.count == 0) {
-    const auto left = make_node_cones(bvh, occluders, index + 1, cones);
-    const auto right = make_node_cones(bvh, occluders, node.first, cones);
+    const auto left = make_node_cones(bvh, occluders, unit_normals, index + 1, cones);
+    const auto right = make_node_cones(bvh, occluders, unit_normals, node.first, cones);
     range = {std::min(left.first, right.first), std::max(left.second, right.second)};
   }
   ExactNodeCone& cone = cones[index];
@@ -357,14 +358,14 @@ std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
   DVec3 sum(0.0);
   for (uint32_t t = range.first; t < range.second; ++t) {
     if (occluders[t].solid != solid || occluders[t].cut) return range;
-    sum += glm::normalize(occluders[t].normal);
+    sum += unit_normals[t];
   }
   const double len = glm::length(sum);
   if (solid == ExactOccluder::kNotSolid || !(len > 1e-12)) return range;
   cone.axis = sum / len;
   double cos_theta = 1.0;
   for (uint32_t t = range.first; t < range.second; ++t)
-    cos_theta = std::min(cos_theta, glm::dot(cone.axis, glm::normalize(occluders[t].normal)));
+    cos_theta = std::min(cos_theta, glm::dot(cone.axis, unit_normals[t]));
   // A little wider than measured, against the rounding of the normals and dot products.
   cos_theta -= 1e-9;
   if (!(cos_theta > 0.0)) return range;
@@ -479,7 +480,10 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   bvh_.renumber_in_leaf_order();
   if (!solids_.empty() && !bvh_.empty()) {
     node_cones_.resize(bvh_.nodes().size());
-    make_node_cones(bvh_, occluders_, 0, node_cones_);
+    std::vector<DVec3> unit_normals(occluders_.size());
+    for (size_t t = 0; t < occluders_.size(); ++t)
+      unit_normals[t] = glm::normalize(occluders_[t].normal);
+    make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
   }
 }
 
