@@ -535,6 +535,21 @@ TEST(Exact, SpheresSceneAgreesWithBruteForceSampling) {
   }
 }
 
+/// Every occluder triangle of `es` projected from p onto the light (project_polygon), none skipped.
+ClipperLib::Paths projected_triangles(const ExactScene& es, const Light& light, const Vec3& p) {
+  const LightFrame f = light_frame(light, p);
+  LightProjection proj;
+  ClipperLib::Paths polys;
+  if (!make_light_projection(DVec3(p), DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), proj)) {
+    ADD_FAILURE() << "no projection";
+    return polys;
+  }
+  ClipperLib::Path poly;
+  for (const ExactOccluder& o : es.occluders())
+    if (project_polygon(proj, o.v, 3, poly)) polys.push_back(poly);
+  return polys;
+}
+
 TEST(Exact, EdgeCancellationKeepsTheUnion) {
   // The projected triangles of the spheres scene from ground points: the union of the cancelled
   // loops must have the area of Clipper's direct union of all triangles.
@@ -544,14 +559,7 @@ TEST(Exact, EdgeCancellationKeepsTheUnion) {
   int tested = 0;
   for (int k = 0; k < 40; ++k) {
     const Vec3 p(-0.9f + 1.8f * rng.next_float(), 0.0f, -0.9f + 1.8f * rng.next_float());
-    const LightFrame f = light_frame(s.lights[0], p);
-    LightProjection proj;
-    ASSERT_TRUE(
-        make_light_projection(DVec3(p), DVec3(f.corner), DVec3(f.edge_u), DVec3(f.edge_v), proj));
-    ClipperLib::Paths polys;
-    ClipperLib::Path poly;
-    for (const ExactOccluder& o : es.occluders())
-      if (project_polygon(proj, o.v, 3, poly)) polys.push_back(poly);
+    const ClipperLib::Paths polys = projected_triangles(es, s.lights[0], p);
     if (polys.size() < 10) continue;
     ++tested;
     const ClipperLib::Paths loops = cancel_shared_edges(polys);
@@ -566,6 +574,58 @@ TEST(Exact, EdgeCancellationKeepsTheUnion) {
     EXPECT_NEAR(paths_area(union_polygons(polys, 8)) / kUvArea, paths_area(a) / kUvArea, 1e-9);
   }
   EXPECT_GT(tested, 10);
+}
+
+TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
+  // exact_visibility never projects the shared edges of kept mesh triangles (nor the triangles
+  // inside the pyramid whose three neighbours are kept): its V must equal the area left by
+  // Clipper's direct union of every projected triangle, no edge skipped, no triangle culled.
+  for (const char* name : {"spheres", "default"}) {
+    Scene s = make_builtin_scene(name);
+    for (Material& m : s.materials) {  // opaque and uncut: the direct union below projects whole
+      m.transmittance = 0.0f;          // triangles
+      m.alpha_texture = -1;
+    }
+    const ExactScene es(s, 4, true), full(s, 4, false);
+    const ExactLight light(s, s.lights[0]);
+    Pcg32 rng(12, 13);
+    int shadowed = 0;
+    double max_diff = 0.0;
+    for (int k = 0; k < 30; ++k) {
+      const Vec3 p(-1.2f + 2.4f * rng.next_float(), 0.0f, -1.2f + 2.4f * rng.next_float());
+      const ClipperLib::Paths polys = projected_triangles(full, s.lights[0], p);
+      ClipperLib::Clipper c;
+      c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
+      c.AddPaths(polys, ClipperLib::ptClip, true);
+      ClipperLib::Paths left;
+      c.Execute(ClipperLib::ctDifference, left, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+      const double direct = paths_area(left) / light.outline().area;
+      if (direct < 1.0 - 1e-9) ++shadowed;
+      for (const ExactScene* scene : {&es, &full}) {
+        const double v = exact_visibility(*scene, light, p).visible;
+        max_diff = std::max(max_diff, std::abs(v - direct));
+        EXPECT_NEAR(v, direct, 1e-9) << name << " receiver " << k;
+      }
+    }
+    std::printf("%s: %d shadowed receivers, max |V - direct union| %.3g\n", name, shadowed,
+                max_diff);
+    EXPECT_GT(shadowed, 5);
+  }
+}
+
+TEST(Exact, TraceLoopsDropsCancelledPairsAndCollinearVertices) {
+  // Two unit squares sharing an edge, given as edges (one copy of the shared edge each way), plus
+  // a collinear midpoint on the outline: one loop of 4 corners, the union's area.
+  using ClipperLib::IntPoint;
+  std::vector<DirectedEdge> edges = {
+      {{0, 0}, {5, 0}},    {{5, 0}, {10, 0}},    {{10, 0}, {10, 10}},
+      {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}},    {{10, 0}, {20, 0}},
+      {{20, 0}, {20, 10}}, {{20, 10}, {10, 10}}, {{10, 10}, {10, 0}}};
+  ClipperLib::Paths loops;
+  const size_t count = trace_loops(edges, loops);
+  ASSERT_EQ(count, 1u);
+  EXPECT_EQ(loops[0].size(), 4u);
+  EXPECT_DOUBLE_EQ(ClipperLib::Area(loops[0]), 200.0);
 }
 
 TEST(Exact, SemiOpaqueSpheresMatchBruteForce) {

@@ -127,4 +127,8 @@ uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vect
   return index;
 }
 
+void ExactBvh::renumber_in_leaf_order() {
+  std::iota(order_.begin(), order_.end(), 0u);
+}
+
 }  // namespace penumbra

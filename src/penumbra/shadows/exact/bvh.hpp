@@ -31,6 +31,9 @@ class ExactBvh {
   /// Primitive indices in leaf order (a leaf owns primitives()[first, first + count)).
   const std::vector<uint32_t>& primitives() const { return order_; }
   int depth() const { return depth_; }
+  /// After the caller stored its primitives in leaf order (new index k = old primitives()[k]):
+  /// primitive k is then slot k, so leaves read their primitives sequentially.
+  void renumber_in_leaf_order();
 
   /// Depth-first traversal: visits every primitive of every leaf whose box passes
   /// `overlaps(const Node&)`, in a fixed order (results never depend on threads). `visit(prim)`
@@ -52,6 +55,41 @@ class ExactBvh {
       } else {
         stack[top++] = node.first;  // right child: visited after the left subtree
         stack[top++] = index + 1;
+      }
+    }
+  }
+
+  /// Like traverse, for a convex query region: `classify(const Node&)` returns kOutside (skip the
+  /// subtree), kPartial (descend) or kInside (the whole box is inside: its subtree is visited
+  /// without further tests, the frustum-culling shortcut). `visit(prim, inside)` learns whether
+  /// the primitive's leaf lay inside; it returns false to stop. Same order as traverse.
+  static constexpr int kOutside = 0, kPartial = 1, kInside = 2;
+  template <typename Classify, typename Visit>
+  void traverse_classified(Classify&& classify, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    struct Entry {
+      uint32_t index;
+      bool inside;
+    };
+    std::array<Entry, kMaxDepth + 2> stack;
+    int top = 0;
+    stack[top++] = {0, false};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      const Node& node = nodes_[e.index];
+      bool inside = e.inside;
+      if (!inside) {
+        const int c = classify(node);
+        if (c == kOutside) continue;
+        inside = c == kInside;
+      }
+      if (node.count > 0) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+          if (!visit(order_[k], inside)) return;
+        }
+      } else {
+        stack[top++] = {node.first, inside};
+        stack[top++] = {e.index + 1, inside};
       }
     }
   }

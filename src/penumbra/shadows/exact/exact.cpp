@@ -13,6 +13,8 @@ namespace penumbra {
 
 namespace {
 
+using ClipperLib::cInt;
+
 /// Rec. 709 luminance, the collapse of a textured light's RGB visibility to one V_coef that the
 /// sampling methods use too (light_weights.hpp).
 double luminance(const DVec3& rgb) {
@@ -184,6 +186,22 @@ Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds
   return w <= 0 ? Cull::keep_positive : Cull::keep_negative;
 }
 
+/// Would every triangle of the cone's subtree be culled for receiver p: seen strictly from behind
+/// (keep_positive: normal · (p − x) < 0 for every normal of the cone and point of its sphere),
+/// or strictly from the front? With φ the angle the sphere subtends from p, the angle between a
+/// normal and p − x differs from the one between the axis and p − centre by at most θ + φ; the
+/// margin of 1e-9 in the cosine is far above the rounding of the per-triangle side tests.
+bool subtree_culled(const ExactNodeCone& cone, const DVec3& p, bool keep_positive) {
+  const DVec3 d = p - cone.center;
+  const double dist = glm::length(d);
+  if (!(dist > cone.radius)) return false;
+  const double sin_phi = cone.radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
+  if (!(cone.cos_theta * cos_phi - cone.sin_theta * sin_phi > 0.0)) return false;  // θ + φ ≥ 90°
+  const double sin_sum = cone.sin_theta * cos_phi + cone.cos_theta * sin_phi;      // sin(θ + φ)
+  const double cos_axis = glm::dot(cone.axis, d) / dist;
+  return keep_positive ? cos_axis < -sin_sum - 1e-9 : cos_axis > sin_sum + 1e-9;
+}
+
 ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
                                         const DVec3& light_pos) {
   ExactPointResult r;
@@ -250,48 +268,136 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
                         frame.corner + frame.edge_u + frame.edge_v})
     light_box.extend(c);
-  const auto skipped = [&](const ExactOccluder& o) {
+  // `side` = normal · (p − v0): positive where p sees the triangle's positive side.
+  const auto skipped = [&](const ExactOccluder& o, double side) {
     if (o.solid == ExactOccluder::kNotSolid) return false;
     Cull& mode = cull[o.solid];
     if (mode == Cull::unknown) mode = cull_mode(scene, o.solid, p, light_box, proj);
     if (mode == Cull::all) return false;
-    const double side = glm::dot(glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]), p - o.v[0]);
     return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);
   };
-  // Opaque polygons go to a per-thread pool whose paths keep their capacity from pixel to pixel:
-  // no allocation per polygon.
-  thread_local ClipperLib::Paths pool;
-  size_t opaque_count = 0;
+
+  // Opaque uncut triangles are not projected whole and then cancelled edge by edge: the edge
+  // between two kept triangles of one mesh whose projections have the same orientation appears in
+  // both, in opposite directions and bit-identical after clipping (clip_polygon), so the pair is
+  // known to cancel from adjacency alone and neither copy is emitted. What is left is the
+  // projected silhouette of the kept set (for a closed mesh, its light-facing part), plus the
+  // pieces along the pyramid's faces, with the same winding-number field as the sum of the
+  // polygons. A triangle whose box lies strictly inside the pyramid (no clipping) and whose three
+  // neighbours are all kept with its orientation contributes nothing and is never projected.
+  // Every kept triangle is marked in `stamp` with the pixel's epoch and its side, so both
+  // triangles of a shared edge take the same decision.
+  struct Scratch {
+    std::vector<uint32_t> stamp;  // (epoch << 1) | positive side, for this pixel's kept triangles
+    uint32_t epoch = 0;
+    std::vector<uint32_t> inside;  // kept triangles from boxes inside the pyramid (not clipped)
+    std::vector<uint32_t> tri;     // kept triangles projected during the traversal
+    std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
+    std::vector<DirectedEdge> edges;
+    ClipperLib::Paths loops;
+    ClipperLib::Path poly;
+  };
+  thread_local Scratch sc;
+  if (sc.stamp.size() < occluders.size()) sc.stamp.resize(occluders.size(), 0);
+  if (++sc.epoch >= (1u << 31)) {  // epochs only grow: stamps of earlier pixels never match
+    std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
+    sc.epoch = 1;
+  }
+  const uint32_t mark = sc.epoch << 1;
+  sc.inside.clear();
+  sc.tri.clear();
+  sc.edges.clear();
+  size_t clipped_count = 0;
+  uint32_t kept = 0, pieces = 0;  // non-degenerate opaque polygons: mesh triangles, alpha pieces
+
   std::vector<SemiPolygon> semi;
-  ClipperLib::Path poly;
+  ClipperLib::Path& poly = sc.poly;
   bool umbra = false;
-  const auto add = [&](const ExactOccluder& o, const DVec3* vertices, int count) {
+  const auto add_piece = [&](const ExactOccluder& o, const DVec3* vertices, int count) {
+    if (!project_polygon(proj, vertices, count, poly)) return;
+    ++r.polygons;
     if (o.transmittance > 0.0) {
-      if (!project_polygon(proj, vertices, count, poly)) return;
-      ++r.polygons;
       semi.push_back({poly, o.transmittance});
       return;
     }
-    if (pool.size() == opaque_count) pool.emplace_back();
-    ClipperLib::Path& out = pool[opaque_count];
-    if (!project_polygon(proj, vertices, count, out)) return;
-    ++r.polygons;
-    ++opaque_count;
-    umbra = umbra || covers_square(out);
+    ++pieces;
+    append_polygon_edges(std::span<const ClipperLib::Path>(&poly, 1), sc.edges);
+    umbra = umbra || covers_square(poly);
   };
-  scene.bvh().traverse(
-      [&](const ExactBvh::Node& n) { return box_meets_pyramid(proj, n.lo, n.hi); },
-      [&](uint32_t prim) {
+  constexpr cInt kSide = static_cast<cInt>(kUvScale);
+  const std::vector<ExactNodeCone>& cones = scene.node_cones();
+  const std::vector<ExactBvh::Node>& nodes = scene.bvh().nodes();
+  scene.bvh().traverse_classified(
+      [&](const ExactBvh::Node& n) {
+        const int c = classify_box(proj, n.lo, n.hi);
+        if (c == ExactBvh::kOutside || cones.empty()) return c;
+        const ExactNodeCone& cone = cones[static_cast<size_t>(&n - nodes.data())];
+        if (cone.solid == ExactOccluder::kNotSolid) return c;
+        Cull& mode = cull[cone.solid];
+        if (mode == Cull::unknown) mode = cull_mode(scene, cone.solid, p, light_box, proj);
+        if (mode == Cull::all || !subtree_culled(cone, p, mode == Cull::keep_positive)) return c;
+        r.candidates += cone.triangles;
+        r.culled += cone.triangles;
+        return ExactBvh::kOutside;
+      },
+      [&](uint32_t prim, bool inside) {
         ++r.candidates;
         const ExactOccluder& o = occluders[prim];
-        if (skipped(o)) {
+        const double side = glm::dot(o.normal, p - o.v[0]);
+        if (skipped(o, side)) {
           ++r.culled;
-        } else if (!o.cut) {
-          add(o, o.v, 3);
-        } else {
+          return true;
+        }
+        if (o.cut) {
           for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
             const ExactPiece& piece = scene.pieces()[k];
-            add(o, scene.piece_vertices().data() + piece.first, static_cast<int>(piece.count));
+            add_piece(o, scene.piece_vertices().data() + piece.first,
+                      static_cast<int>(piece.count));
+          }
+          return !umbra;
+        }
+        if (o.transmittance > 0.0) {
+          add_piece(o, o.v, 3);
+          return true;
+        }
+        if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
+        if (!inside) {
+          // The leaf straddles the pyramid; the triangle itself often does not (its own box).
+          const Vec3 a(o.v[0]), b(o.v[1]), c(o.v[2]);
+          const int own =
+              classify_box(proj, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+          if (own == ExactBvh::kOutside) return true;  // projects to nothing
+          inside = own == ExactBvh::kInside;
+        }
+        sc.stamp[prim] = mark | (side > 0.0 ? 1u : 0u);
+        if (inside) {
+          sc.inside.push_back(prim);
+          ++r.polygons;
+          ++kept;
+          return true;
+        }
+        if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
+        ClippedPolygon& c = sc.clipped[clipped_count];
+        clip_polygon(proj, o.v, 3, c);
+        if (c.n == 0) return true;
+        ++clipped_count;
+        sc.tri.push_back(prim);
+        if (c.n >= 3) {
+          ++r.polygons;
+          ++kept;
+        }
+        if (c.n >= 4) {
+          // Only a polygon reaching all four sides of the uv square can cover it.
+          cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
+          for (int i = 0; i < c.n; ++i) {
+            lo_x = std::min(lo_x, c.q[i].X);
+            hi_x = std::max(hi_x, c.q[i].X);
+            lo_y = std::min(lo_y, c.q[i].Y);
+            hi_y = std::max(hi_y, c.q[i].Y);
+          }
+          if (lo_x == 0 && lo_y == 0 && hi_x == kSide && hi_y == kSide) {
+            poly.assign(c.q, c.q + c.n);
+            umbra = covers_square(poly);
           }
         }
         return !umbra;  // one opaque polygon hides the whole light: done
@@ -301,18 +407,58 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.visible_rgb = DVec3(0.0);
     return r;
   }
-  if (opaque_count == 0 && semi.empty()) return r;
+
+  // The projection's orientation: with M the rows to_u, to_v, to_w, det[h0 h1 h2] =
+  // det M · det[x0 − p, x1 − p, x2 − p] = −det M · side, and W > 0 after clipping, so a polygon
+  // keeps its vertex order's orientation in uv iff det M · side < 0. Every polygon enters the
+  // union positively oriented (see project_polygon).
+  const bool det_positive = glm::dot(proj.to_u, glm::cross(proj.to_v, proj.to_w)) > 0.0;
+  const auto emit = [&](uint32_t prim, const ClippedPolygon& c) {
+    const ExactOccluder& o = occluders[prim];
+    const uint32_t own = sc.stamp[prim];
+    const bool flip = det_positive == ((own & 1u) != 0);
+    for (int i = 0; i < c.n; ++i) {
+      const int e = c.edge[i];
+      if (e >= 0) {
+        const uint32_t nb = o.neighbour[e];
+        if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
+      }
+      const ClipperLib::IntPoint& a = c.q[i];
+      const ClipperLib::IntPoint& b = c.q[i + 1 == c.n ? 0 : i + 1];
+      if (a == b) continue;
+      sc.edges.push_back(flip ? DirectedEdge{b, a} : DirectedEdge{a, b});
+    }
+  };
+  for (size_t i = 0; i < clipped_count; ++i) emit(sc.tri[i], sc.clipped[i]);
+  ClippedPolygon unclipped;
+  for (const uint32_t prim : sc.inside) {
+    const ExactOccluder& o = occluders[prim];
+    const uint32_t own = sc.stamp[prim];
+    bool interior = true;
+    for (const uint32_t nb : o.neighbour)
+      interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
+    if (interior) continue;
+    clip_polygon(proj, o.v, 3, unclipped);
+    emit(prim, unclipped);
+  }
+  if (sc.edges.empty() && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
-  if (opaque_count == 1 && semi.empty() && !outline.round && !light.textured()) {
-    // One convex polygon, already clipped to the uv square that is the whole light: no boolean.
-    const double v = 1.0 - std::abs(ClipperLib::Area(pool[0])) / outline.area;
+  // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need the
+  // hash.
+  const size_t loop_count = trace_loops(sc.edges, sc.loops, pieces > 0);
+  const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
+  if (kept + pieces == 1 && semi.empty() && !outline.round && !light.textured()) {
+    // One convex polygon, already clipped to the uv square that is the whole light: no boolean
+    // (its loops' signed areas, with any degenerate chains', sum to its own).
+    double area = 0.0;
+    for (const ClipperLib::Path& loop : loops) area += ClipperLib::Area(loop);
+    const double v = 1.0 - std::abs(area) / outline.area;
     r.visible = std::clamp(v, 0.0, 1.0);
     r.visible_rgb = DVec3(r.visible);
     return r;
   }
-  const std::vector<LightRegion> regions =
-      visible_regions(outline, std::span<const ClipperLib::Path>(pool.data(), opaque_count), semi);
+  const std::vector<LightRegion> regions = visible_regions(outline, loops, semi);
   double visible_area = 0.0;
   for (const LightRegion& region : regions)
     visible_area += region.weight * paths_area(region.paths);

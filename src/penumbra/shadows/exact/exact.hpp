@@ -44,6 +44,15 @@ struct ExactOccluder {
   /// kNotSolid.
   uint32_t solid = kNotSolid;
   static constexpr uint32_t kNotSolid = 0xFFFFFFFFu;
+  /// (v1 − v0) × (v2 − v0), unnormalised: the receiver p sees the positive side where
+  /// normal · (p − v0) > 0.
+  DVec3 normal{0.0};
+  /// Opaque uncut triangles: neighbour[k] is the occluder across the edge v[k] → v[k+1] when that
+  /// edge (welded by bit-identical position) belongs to exactly one other triangle of the same
+  /// mesh, traversing it the other way; else kNoNeighbour. Shared edges of two triangles whose
+  /// projections have the same orientation cancel and are never emitted (exact_visibility).
+  uint32_t neighbour[3] = {kNoNeighbour, kNoNeighbour, kNoNeighbour};
+  static constexpr uint32_t kNoNeighbour = 0xFFFFFFFFu;
 };
 
 /// An opaque, uncut mesh made a closed surface: its triangles plus virtual caps — fans over the
@@ -59,6 +68,19 @@ struct ExactSolid {
   std::vector<std::array<DVec3, 3>> caps;
   std::vector<Bounds3> cap_boxes;  // one per boundary walk
 };
+/// The normals of a BVH subtree whose triangles all belong to one ExactSolid: every unit normal
+/// lies within the angle θ < 90° of `axis`; the triangles lie in the sphere (center, radius).
+/// Lets the culling skip the whole subtree when the receiver sees all of it from the culled side
+/// (cull_mode in exact.cpp). solid = ExactOccluder::kNotSolid: no cone.
+struct ExactNodeCone {
+  DVec3 axis{0.0};
+  double cos_theta = 0.0, sin_theta = 1.0;
+  DVec3 center{0.0};
+  double radius = 0.0;
+  uint32_t solid = ExactOccluder::kNotSolid;
+  uint32_t triangles = 0;  // in the subtree
+};
+
 /// Meshes needing more cap triangles than this (large open surfaces) are not made solids: their
 /// caps would be met by most pyramids and would cost every winding-number ray.
 inline constexpr size_t kMaxCapTriangles = 1024;
@@ -84,6 +106,8 @@ class ExactScene {
   const ExactBvh& bvh() const { return bvh_; }
   /// The opaque meshes whose back faces may be culled (none when culling is off).
   const std::vector<ExactSolid>& solids() const { return solids_; }
+  /// One per BVH node (empty when there are no solids).
+  const std::vector<ExactNodeCone>& node_cones() const { return node_cones_; }
 
  private:
   const Scene* scene_;
@@ -92,6 +116,7 @@ class ExactScene {
   std::vector<DVec3> piece_vertices_;
   std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
+  std::vector<ExactNodeCone> node_cones_;
 };
 
 /// Everything about one light that does not depend on the receiver: its uv outline (square or

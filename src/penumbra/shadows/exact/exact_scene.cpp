@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <tuple>
 #include <unordered_map>
+#include <utility>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
@@ -272,6 +274,109 @@ bool make_caps(const Mesh& mesh, ExactSolid& solid) {
   return solid.caps.size() <= kMaxCapTriangles;
 }
 
+/// Fills ExactOccluder::neighbour for the opaque uncut triangles: corners welded by bit-identical
+/// position within a mesh (−0 = +0), an edge paired only when exactly two triangles use it, in
+/// opposite directions. Sorting, not hashing: linear-ish and deterministic.
+void link_neighbours(std::vector<ExactOccluder>& occluders, const std::vector<uint32_t>& mesh_of) {
+  struct Corner {
+    uint32_t mesh;
+    uint32_t bits[3];
+    uint32_t slot;  // occluder · 3 + corner
+  };
+  std::vector<Corner> corners;
+  corners.reserve(3 * occluders.size());
+  for (size_t t = 0; t < occluders.size(); ++t) {
+    const ExactOccluder& o = occluders[t];
+    if (o.cut || o.transmittance > 0.0) continue;
+    for (int c = 0; c < 3; ++c) {
+      Corner k{mesh_of[t], {}, static_cast<uint32_t>(3 * t + c)};
+      for (int i = 0; i < 3; ++i) {
+        const float x = static_cast<float>(o.v[c][i]);
+        const float w = x == 0.0f ? 0.0f : x;
+        std::memcpy(&k.bits[i], &w, sizeof(float));
+      }
+      corners.push_back(k);
+    }
+  }
+  const auto key = [](const Corner& c) {
+    return std::tie(c.mesh, c.bits[0], c.bits[1], c.bits[2]);
+  };
+  std::sort(corners.begin(), corners.end(),
+            [&](const Corner& a, const Corner& b) { return key(a) < key(b); });
+  std::vector<uint32_t> vertex_of(3 * occluders.size(), 0xFFFFFFFFu);
+  uint32_t next_id = 0;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    if (i > 0 && key(corners[i]) != key(corners[i - 1])) ++next_id;
+    vertex_of[corners[i].slot] = next_id;
+  }
+  struct Edge {
+    uint32_t lo, hi, slot;  // slot: occluder · 3 + edge; lo→hi is the forward direction
+    bool forward;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * occluders.size());
+  for (size_t t = 0; t < occluders.size(); ++t) {
+    const uint32_t a0 = vertex_of[3 * t];
+    if (a0 == 0xFFFFFFFFu) continue;
+    for (uint32_t e = 0; e < 3; ++e) {
+      const uint32_t a = vertex_of[3 * t + e], b = vertex_of[3 * t + (e + 1) % 3];
+      if (a == b) continue;
+      edges.push_back({std::min(a, b), std::max(a, b), static_cast<uint32_t>(3 * t + e), a < b});
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return std::tie(x.lo, x.hi, x.slot) < std::tie(y.lo, y.hi, y.slot);
+  });
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    if (j - i == 2 && edges[i].forward != edges[i + 1].forward) {
+      const Edge &x = edges[i], &y = edges[i + 1];
+      occluders[x.slot / 3].neighbour[x.slot % 3] = y.slot / 3;
+      occluders[y.slot / 3].neighbour[y.slot % 3] = x.slot / 3;
+    }
+    i = j;
+  }
+}
+
+/// Fills cones[index] for the subtree at `index` (occluders already in leaf order, so a subtree
+/// owns a contiguous range) and returns that range.
+std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
+                                              const std::vector<ExactOccluder>& occluders,
+                                              const std::vector<DVec3>& unit_normals,
+                                              uint32_t index, std::vector<ExactNodeCone>& cones) {
+  const ExactBvh::Node& node = bvh.nodes()[index];
+  std::pair<uint32_t, uint32_t> range{node.first, node.first + node.count};
+  if (node.count == 0) {
+    const auto left = make_node_cones(bvh, occluders, unit_normals, index + 1, cones);
+    const auto right = make_node_cones(bvh, occluders, unit_normals, node.first, cones);
+    range = {std::min(left.first, right.first), std::max(left.second, right.second)};
+  }
+  ExactNodeCone& cone = cones[index];
+  cone.triangles = range.second - range.first;
+  const uint32_t solid = occluders[range.first].solid;
+  DVec3 sum(0.0);
+  for (uint32_t t = range.first; t < range.second; ++t) {
+    if (occluders[t].solid != solid || occluders[t].cut) return range;
+    sum += unit_normals[t];
+  }
+  const double len = glm::length(sum);
+  if (solid == ExactOccluder::kNotSolid || !(len > 1e-12)) return range;
+  cone.axis = sum / len;
+  double cos_theta = 1.0;
+  for (uint32_t t = range.first; t < range.second; ++t)
+    cos_theta = std::min(cos_theta, glm::dot(cone.axis, unit_normals[t]));
+  // A little wider than measured, against the rounding of the normals and dot products.
+  cos_theta -= 1e-9;
+  if (!(cos_theta > 0.0)) return range;
+  cone.cos_theta = cos_theta;
+  cone.sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  cone.center = 0.5 * (DVec3(node.lo) + DVec3(node.hi));
+  cone.radius = 0.5 * glm::length(DVec3(node.hi) - DVec3(node.lo)) * (1.0 + 1e-9);
+  cone.solid = solid;
+  return range;
+}
+
 }  // namespace
 
 ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) : scene_(&scene) {
@@ -329,6 +434,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   });
 
   std::vector<Bounds3> boxes;
+  std::vector<uint32_t> occluder_mesh;
   occluders_.reserve(items.size());
   boxes.reserve(items.size());
   for (size_t k = 0; k < items.size(); ++k) {
@@ -353,10 +459,32 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
         piece_vertices_.insert(piece_vertices_.end(), piece.begin(), piece.end());
       }
     }
+    o.normal = glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]);
     occluders_.push_back(o);
+    occluder_mesh.push_back(items[k].mesh);
     boxes.push_back(box);
   }
+  link_neighbours(occluders_, occluder_mesh);
   bvh_.build(boxes, leaf_size);
+  // Occluders in leaf order: a pixel's candidates are then read from a few runs of memory.
+  const std::vector<uint32_t>& order = bvh_.primitives();
+  std::vector<uint32_t> new_index(order.size());
+  for (size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<uint32_t>(k);
+  std::vector<ExactOccluder> sorted(occluders_.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    sorted[k] = occluders_[order[k]];
+    for (uint32_t& nb : sorted[k].neighbour)
+      if (nb != ExactOccluder::kNoNeighbour) nb = new_index[nb];
+  }
+  occluders_.swap(sorted);
+  bvh_.renumber_in_leaf_order();
+  if (!solids_.empty() && !bvh_.empty()) {
+    node_cones_.resize(bvh_.nodes().size());
+    std::vector<DVec3> unit_normals(occluders_.size());
+    for (size_t t = 0; t < occluders_.size(); ++t)
+      unit_normals[t] = glm::normalize(occluders_[t].normal);
+    make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
+  }
 }
 
 ExactLight::ExactLight(const Scene& scene, const Light& light, int disk_segments)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <tuple>
 
+#include "penumbra/shadows/exact/bvh.hpp"
 #include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
@@ -23,7 +24,11 @@ uint64_t splitmix(uint64_t x) {
 }
 
 cInt to_clipper(double uv) {
-  return static_cast<cInt>(std::llround(std::clamp(uv, 0.0, 1.0) * kUvScale));
+  // llround of a value ≥ 0 (half away from zero), without the library call: x − floor(x) is
+  // exact in floating point.
+  const double x = std::clamp(uv, 0.0, 1.0) * kUvScale;
+  const double f = std::floor(x);
+  return static_cast<cInt>(f) + (x - f >= 0.5 ? 1 : 0);
 }
 
 /// Sutherland–Hodgman against one axis-aligned half-plane: keeps points with
@@ -65,6 +70,32 @@ void to_uv(const Path& path, std::vector<DVec2>& out) {
     out.emplace_back(static_cast<double>(q.X) / kUvScale, static_cast<double>(q.Y) / kUvScale);
 }
 
+/// Removes, in place, every vertex of a closed loop that lies on the line through its neighbours
+/// (exact integer cross product: coordinates are below 2^31, so it fits 64 bits). The winding
+/// number changes only on those lines, a set of measure zero: the loop's union area is the same.
+/// Mostly the runs of pieces along the light's sides, one per clipped triangle, which would
+/// otherwise cost the union a scanbeam each.
+void drop_collinear(Path& loop) {
+  const auto collinear = [](const IntPoint& a, const IntPoint& b, const IntPoint& c) {
+    return (b.X - a.X) * (c.Y - a.Y) == (b.Y - a.Y) * (c.X - a.X);
+  };
+  size_t n = loop.size();
+  if (n < 3) return;
+  size_t out = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // Compare against the last vertex kept (or the loop's last one for the first vertex).
+    const IntPoint& prev = out > 0 ? loop[out - 1] : loop[n - 1];
+    const IntPoint& next = loop[i + 1 < n ? i + 1 : 0];
+    if (collinear(prev, loop[i], next)) continue;
+    loop[out++] = loop[i];
+  }
+  loop.resize(out);
+  // The wrap-around: the first kept vertices may have become collinear with the last ones.
+  while (loop.size() >= 3 && collinear(loop[loop.size() - 2], loop.back(), loop[0]))
+    loop.pop_back();
+  while (loop.size() >= 3 && collinear(loop.back(), loop[0], loop[1])) loop.erase(loop.begin());
+}
+
 }  // namespace
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
@@ -99,6 +130,22 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
     out.planes[k].n = normals[k];
     out.planes[k].d = offsets[k] + glm::dot(normals[k], receiver);
   }
+  // The clip half-spaces of project_polygon, in its order (f ≥ 0).
+  out.clip_n = {out.to_w, -out.to_w, out.to_u, out.to_w - out.to_u, out.to_v, out.to_w - out.to_v};
+  out.clip_c = {-kMinW, kShadowSegmentEnd, 0.0, 0.0, 0.0, 0.0};
+  LightProjection::Lanes& l = out.lanes;
+  for (int k = 0; k < 8; ++k) {
+    const DVec3 n = k < 6 ? out.clip_n[k] : DVec3(0.0);
+    const double c = k < 6 ? out.clip_c[k] : 1.0;
+    l.nx[k] = n.x;
+    l.ny[k] = n.y;
+    l.nz[k] = n.z;
+    l.c[k] = c;
+    l.ax[k] = std::abs(n.x);
+    l.ay[k] = std::abs(n.y);
+    l.az[k] = std::abs(n.z);
+    l.ac[k] = std::abs(c);
+  }
   return true;
 }
 
@@ -118,17 +165,47 @@ bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& 
   return true;
 }
 
-bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
-                     ClipperLib::Path& out) {
-  out.clear();
-  if (count < 3 || count > kMaxPolygon) return false;
-  // Each of the six clips adds at most one vertex to a convex polygon.
-  constexpr int kCapacity = kMaxPolygon + 8;
+int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
+  // Against project_polygon's own six half-spaces f_k ≥ 0: a box with f_k < 0 throughout for one
+  // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
+  // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
+  // Eight lanes without branches, so the compiler vectorises the loop.
+  const double lx = lo.x - proj.origin.x, ly = lo.y - proj.origin.y, lz = lo.z - proj.origin.z;
+  const double hx = hi.x - proj.origin.x, hy = hi.y - proj.origin.y, hz = hi.z - proj.origin.z;
+  const double bx = std::max(std::abs(lx), std::abs(hx)), by = std::max(std::abs(ly), std::abs(hy)),
+               bz = std::max(std::abs(lz), std::abs(hz));
+  const LightProjection::Lanes& l = proj.lanes;
+  int outside = 0, inside = 0;
+  for (int k = 0; k < 8; ++k) {
+    const double x0 = l.nx[k] * lx, x1 = l.nx[k] * hx;
+    const double y0 = l.ny[k] * ly, y1 = l.ny[k] * hy;
+    const double z0 = l.nz[k] * lz, z1 = l.nz[k] * hz;
+    const double min_f = l.c[k] + std::min(x0, x1) + std::min(y0, y1) + std::min(z0, z1);
+    const double max_f = l.c[k] + std::max(x0, x1) + std::max(y0, y1) + std::max(z0, z1);
+    const double margin = 1e-9 * (l.ac[k] + l.ax[k] * bx + l.ay[k] * by + l.az[k] * bz);
+    outside |= max_f < -margin ? 1 : 0;
+    inside += min_f > margin ? 1 : 0;
+  }
+  if (outside) return ExactBvh::kOutside;
+  return inside == 8 ? ExactBvh::kInside : ExactBvh::kPartial;
+}
+
+void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                  ClippedPolygon& out) {
+  out.n = 0;
+  if (count < 3 || count > kMaxPolygon) return;
+  constexpr int kCapacity = ClippedPolygon::kCapacity;
   DVec3 buf_a[kCapacity], buf_b[kCapacity];
+  int8_t edge_a[kCapacity], edge_b[kCapacity];
   DVec3* in = buf_a;
   DVec3* next = buf_b;
+  int8_t* in_edge = edge_a;
+  int8_t* next_edge = edge_b;
   int n = count;
-  for (int i = 0; i < count; ++i) in[i] = proj.homogeneous(vertices[i]);
+  for (int i = 0; i < count; ++i) {
+    in[i] = proj.homogeneous(vertices[i]);
+    in_edge[i] = static_cast<int8_t>(i);
+  }
 
   // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
   const auto f = [](int plane, const DVec3& h) {
@@ -161,26 +238,43 @@ bool project_polygon(const LightProjection& proj, const DVec3* vertices, int cou
       if ((fv[i] >= 0.0) != (fv[j] >= 0.0)) {
         // Interpolate from the lexicographically smaller end: an edge shared by two polygons
         // (traversed in opposite directions) then clips to bit-identical points, so its two
-        // copies still cancel in cancel_shared_edges.
+        // copies still cancel.
         const bool j_first =
             std::tie(in[j].x, in[j].y, in[j].z) < std::tie(in[i].x, in[i].y, in[i].z);
         const int a = j_first ? j : i, b = j_first ? i : j;
         const double t = fv[a] / (fv[a] - fv[b]);
-        next[m++] = in[a] + t * (in[b] - in[a]);
+        next[m] = in[a] + t * (in[b] - in[a]);
+        // Entering (j outside): the rest of the edge j → i follows. Leaving: the next point is
+        // where the polygon re-enters, along this plane.
+        next_edge[m++] = fv[i] >= 0.0 ? in_edge[j] : ClippedPolygon::kClipEdge;
       }
-      if (fv[i] >= 0.0) next[m++] = in[i];
+      if (fv[i] >= 0.0) {
+        next[m] = in[i];
+        next_edge[m++] = in_edge[i];
+      }
     }
     std::swap(in, next);
+    std::swap(in_edge, next_edge);
     n = m;
   }
-  if (n < 3) return false;
-
-  out.reserve(n);
+  out.n = n;
   for (int i = 0; i < n; ++i) {
     const DVec3& h = in[i];
-    const IntPoint q(to_clipper(h.x / h.z), to_clipper(h.y / h.z));
-    if (!out.empty() && out.back() == q) continue;
-    out.push_back(q);
+    out.q[i] = IntPoint(to_clipper(h.x / h.z), to_clipper(h.y / h.z));
+    out.edge[i] = in_edge[i];
+  }
+}
+
+bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                     ClipperLib::Path& out) {
+  out.clear();
+  ClippedPolygon clipped;
+  clip_polygon(proj, vertices, count, clipped);
+  if (clipped.n < 3) return false;
+  out.reserve(clipped.n);
+  for (int i = 0; i < clipped.n; ++i) {
+    if (!out.empty() && out.back() == clipped.q[i]) continue;
+    out.push_back(clipped.q[i]);
   }
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
   if (out.size() < 3) {
@@ -243,24 +337,35 @@ double paths_area(const Paths& paths) {
   return a;
 }
 
+void append_polygon_edges(std::span<const Path> polygons, std::vector<DirectedEdge>& edges) {
+  for (const Path& p : polygons)
+    for (size_t i = 0; i < p.size(); ++i) edges.push_back({p[i], p[(i + 1) % p.size()]});
+}
+
 Paths cancel_shared_edges(std::span<const Path> polygons) {
+  std::vector<DirectedEdge> edges;
+  append_polygon_edges(polygons, edges);
+  Paths loops;
+  loops.resize(trace_loops(edges, loops));
+  return loops;
+}
+
+namespace {
+
+/// Removes every pair of opposite copies of one segment from `edges` (and zero-length edges).
+void cancel_opposite_edges(std::vector<DirectedEdge>& edges) {
   // Net multiplicity of every undirected segment (+1 per lo→hi copy, −1 per hi→lo), in an
   // open-addressing hash table: linear in the edge count (a sort was half of a penumbra pixel's
   // time). Points pack into 64 bits since coordinates are in [0, 2^30). The table is reused per
   // thread and only the slots a call used are reset, so a call costs its edges, not the table.
-  const auto less = [](const IntPoint& a, const IntPoint& b) {
-    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
-  };
   // 24-byte slots keyed by the packed end points (coordinates are in [0, 2^30), so X·2^32 + Y is
   // exact and 0 is never a valid pair of distinct points: it marks an empty slot).
   struct Slot {
     uint64_t lo = 0, hi = 0;
     int64_t net = 0;
   };
-  size_t count = 0;
-  for (const Path& p : polygons) count += p.size();
   size_t capacity = 16;
-  while (capacity < 2 * count) capacity *= 2;
+  while (capacity < 2 * edges.size()) capacity *= 2;
   thread_local std::vector<Slot> table;
   thread_local std::vector<size_t> used;
   if (table.size() < capacity) table.assign(capacity, Slot{});
@@ -268,31 +373,24 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
   const auto pack = [](const IntPoint& q) {
     return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
   };
-  for (const Path& p : polygons) {
-    for (size_t i = 0; i < p.size(); ++i) {
-      const IntPoint& a = p[i];
-      const IntPoint& b = p[(i + 1) % p.size()];
-      if (a == b) continue;
-      const uint64_t ka = pack(a), kb = pack(b);
-      const bool forward = ka < kb;  // the same order as `less` on (X, Y)
-      const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
-      size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
-      while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
-        h = (h + 1) & (capacity - 1);
-      Slot& slot = table[h];
-      if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
-        slot.lo = lo;
-        slot.hi = hi;
-        used.push_back(h);
-      }
-      slot.net += forward ? 1 : -1;
+  for (const DirectedEdge& e : edges) {
+    if (e.from == e.to) continue;
+    const uint64_t ka = pack(e.from), kb = pack(e.to);
+    const bool forward = ka < kb;
+    const uint64_t lo = forward ? ka : kb, hi = forward ? kb : ka;
+    size_t h = static_cast<size_t>(splitmix(lo * 0x9e3779b97f4a7c15ull ^ hi)) & (capacity - 1);
+    while (table[h].hi != 0 && !(table[h].lo == lo && table[h].hi == hi))
+      h = (h + 1) & (capacity - 1);
+    Slot& slot = table[h];
+    if (slot.hi == 0) {  // hi > lo ≥ 0, so an occupied slot has hi ≠ 0
+      slot.lo = lo;
+      slot.hi = hi;
+      used.push_back(h);
     }
+    slot.net += forward ? 1 : -1;
   }
-  // The surviving directed edges, sorted by their start.
-  struct Directed {
-    IntPoint from, to;
-  };
-  thread_local std::vector<Directed> kept;
+  // The surviving directed edges (edges is reused for them).
+  std::vector<DirectedEdge>& kept = edges;
   kept.clear();
   const auto unpack = [](uint64_t k) {
     return IntPoint(static_cast<cInt>(k >> 32), static_cast<cInt>(k & 0xFFFFFFFFull));
@@ -301,50 +399,82 @@ Paths cancel_shared_edges(std::span<const Path> polygons) {
     Slot& slot = table[h];
     const IntPoint lo = unpack(slot.lo), hi = unpack(slot.hi);
     for (int64_t k = 0; k < std::abs(slot.net); ++k)
-      kept.push_back(slot.net > 0 ? Directed{lo, hi} : Directed{hi, lo});
+      kept.push_back(slot.net > 0 ? DirectedEdge{lo, hi} : DirectedEdge{hi, lo});
     slot = Slot{};
   }
-  std::sort(kept.begin(), kept.end(), [&](const Directed& x, const Directed& y) {
-    if (x.from != y.from) return less(x.from, y.from);
-    return less(x.to, y.to);
-  });
-  // Trace closed walks. Every vertex has as many kept edges in as out (each polygon is a cycle
-  // and a cancelled pair removes one of each), so a walk can always leave any vertex it entered
-  // and must end where it started. Edges leaving one vertex are consumed in order via a cursor at
-  // the first edge of their group.
-  thread_local std::vector<size_t> cursor;
-  cursor.resize(kept.size());
-  for (size_t i = 0; i < kept.size(); ++i) cursor[i] = i;
-  const auto group_of = [&](const IntPoint& v) {
-    return static_cast<size_t>(
-        std::lower_bound(kept.begin(), kept.end(), v,
-                         [&](const Directed& e, const IntPoint& q) { return less(e.from, q); }) -
-        kept.begin());
+}
+
+}  // namespace
+
+size_t trace_loops(std::vector<DirectedEdge>& edges, Paths& loops, bool cancel) {
+  constexpr uint64_t kNoPoint = ~uint64_t{0};  // never a packed point: coordinates are < 2^31
+  constexpr uint32_t kNoEdge = ~uint32_t{0};
+  const auto pack = [](const IntPoint& q) {
+    return (static_cast<uint64_t>(q.X) << 32) | static_cast<uint64_t>(q.Y);
   };
-  const auto group_end = [&](size_t g) {
-    size_t e = g;
-    while (e < kept.size() && kept[e].from == kept[g].from) ++e;
-    return e;
-  };
-  Paths loops;
-  for (size_t g = 0; g < kept.size();) {
-    const size_t end = group_end(g);
-    while (cursor[g] < end) {
-      const IntPoint start = kept[g].from;
-      Path loop{start};
-      IntPoint at = kept[cursor[g]++].to;
-      while (at != start) {
-        loop.push_back(at);
-        const size_t h = group_of(at);
-        if (h >= kept.size() || kept[h].from != at || cursor[h] >= group_end(h))
-          break;  // unreachable
-        at = kept[cursor[h]++].to;
-      }
-      if (loop.size() >= 3) loops.push_back(std::move(loop));
-    }
-    g = end;
+  thread_local std::vector<size_t> used;
+  if (cancel) {
+    cancel_opposite_edges(edges);
+  } else {
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [](const DirectedEdge& e) { return e.from == e.to; }),
+                edges.end());
   }
-  return loops;
+  std::vector<DirectedEdge>& kept = edges;
+  // Trace closed walks. Every vertex has as many kept edges in as out (each chain is closed and
+  // a cancelled pair removes one of each), so a walk can always leave any vertex it entered and
+  // must end where it started. The edges leaving each point form a list (head in a second hash
+  // table keyed by the point, links in `next`), consumed in input order.
+  struct Head {
+    uint64_t point = kNoPoint;
+    uint32_t first = 0;
+  };
+  thread_local std::vector<Head> heads;
+  thread_local std::vector<uint32_t> next;
+  size_t head_capacity = 16;
+  while (head_capacity < 2 * kept.size()) head_capacity *= 2;
+  if (heads.size() < head_capacity) heads.assign(head_capacity, Head{});
+  next.resize(kept.size());
+  const auto find_head = [&](uint64_t point) -> size_t {
+    size_t h = static_cast<size_t>(splitmix(point)) & (head_capacity - 1);
+    while (heads[h].point != kNoPoint && heads[h].point != point) h = (h + 1) & (head_capacity - 1);
+    return h;
+  };
+  used.clear();
+  for (size_t i = kept.size(); i-- > 0;) {
+    const size_t h = find_head(pack(kept[i].from));
+    Head& head = heads[h];
+    if (head.point == kNoPoint) {
+      used.push_back(h);
+      next[i] = kNoEdge;
+    } else {
+      next[i] = head.first;
+    }
+    head.point = pack(kept[i].from);
+    head.first = static_cast<uint32_t>(i);
+  }
+  size_t count = 0;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (heads[find_head(pack(kept[i].from))].first == kNoEdge)
+      continue;  // every edge leaving this point is used
+    if (loops.size() == count) loops.emplace_back();
+    Path& loop = loops[count];
+    loop.clear();
+    const IntPoint start = kept[i].from;
+    IntPoint at = start;
+    do {
+      loop.push_back(at);
+      Head& head = heads[find_head(pack(at))];
+      if (head.point == kNoPoint || head.first == kNoEdge) break;  // unreachable: chains close
+      const uint32_t e = head.first;
+      head.first = next[e];
+      at = kept[e].to;
+    } while (at != start);
+    drop_collinear(loop);
+    if (loop.size() >= 3) ++count;
+  }
+  for (const size_t h : used) heads[h] = Head{};
+  return count;
 }
 
 Paths union_polygons(const Paths& polygons, size_t group) {
@@ -377,20 +507,20 @@ Paths union_polygons(const Paths& polygons, size_t group) {
   return level.empty() ? Paths{} : std::move(level[0]);
 }
 
-std::vector<LightRegion> visible_regions(const LightOutline& outline, std::span<const Path> opaque,
+std::vector<LightRegion> visible_regions(const LightOutline& outline,
+                                         std::span<const Path> opaque_loops,
                                          const std::vector<SemiPolygon>& semi) {
   std::vector<LightRegion> regions(1);
-  if (opaque.empty()) {
+  if (opaque_loops.empty()) {
     regions[0].paths = {outline.path};
   } else {
     ClipperLib::Clipper c;
     c.AddPath(outline.path, ClipperLib::ptSubject, true);
-    const Paths loops =
-        opaque.size() > 1 ? cancel_shared_edges(opaque) : Paths(opaque.begin(), opaque.end());
-    if (loops.size() <= kUnionGroup) {
-      c.AddPaths(loops, ClipperLib::ptClip, true);
+    if (opaque_loops.size() <= kUnionGroup) {
+      for (const Path& loop : opaque_loops) c.AddPath(loop, ClipperLib::ptClip, true);
     } else {
-      c.AddPaths(union_polygons(loops, kUnionGroup), ClipperLib::ptClip, true);
+      c.AddPaths(union_polygons(Paths(opaque_loops.begin(), opaque_loops.end()), kUnionGroup),
+                 ClipperLib::ptClip, true);
     }
     c.Execute(ClipperLib::ctDifference, regions[0].paths, ClipperLib::pftNonZero,
               ClipperLib::pftNonZero);

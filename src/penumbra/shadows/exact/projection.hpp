@@ -42,6 +42,14 @@ struct LightProjection {
     double d = 0.0;
   };
   std::array<Plane, 6> planes;
+  /// The six half-spaces project_polygon clips to, as f_k(x) = dot(clip_n[k], x − origin) +
+  /// clip_c[k] ≥ 0: W ≥ kMinW, W ≤ kShadowSegmentEnd, U ≥ 0, U ≤ W, V ≥ 0, V ≤ W (classify_box).
+  std::array<DVec3, 6> clip_n;
+  std::array<double, 6> clip_c{};
+  /// The same six half-spaces laid out for classify_box's vector loop (lane 6, 7: always inside).
+  struct alignas(64) Lanes {
+    double nx[8], ny[8], nz[8], c[8], ax[8], ay[8], az[8], ac[8];  // a: absolute values
+  } lanes;
 
   DVec3 homogeneous(const DVec3& x) const {
     const DVec3 d = x - origin;
@@ -59,12 +67,47 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
 /// planes (so it holds nothing that can block any light point).
 bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& hi);
 
+/// The box against the six half-spaces project_polygon clips to: ExactBvh::kOutside when it lies
+/// outside one of them by a relative margin of 1e-9 (then nothing in it survives the clip),
+/// kInside when every point lies inside all six by that margin (far above the rounding of the
+/// homogeneous coordinates, so no polygon inside such a box is ever clipped), else kPartial.
+int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi);
+
 /// Clips the convex world polygon vertices[0..count) (count ≤ kMaxPolygon) to the pyramid and
 /// writes the light-uv polygon it blocks, in Clipper units with positive orientation. Returns
 /// false when that polygon is empty (or has zero area after rounding).
 inline constexpr int kMaxPolygon = 8;
 bool project_polygon(const LightProjection& proj, const DVec3* vertices, int count,
                      ClipperLib::Path& out);
+
+/// A projected polygon before clean-up, in the orientation of the world polygon's vertex order:
+/// n rounded light-uv points (consecutive duplicates possible) and, per point i, where the edge
+/// i → i+1 comes from: edge[i] = k when it is a piece of the world edge k → k+1, kClipEdge when it
+/// runs along a face of the pyramid. Two polygons sharing a world edge (opposite directions)
+/// produce bit-identical pieces of it (the clip interpolates from the lexicographically smaller
+/// end), which is what lets the exact reference skip the shared edges of a mesh from adjacency.
+struct ClippedPolygon {
+  static constexpr int kCapacity = kMaxPolygon + 8;  // each of the six clips adds at most one
+  static constexpr int8_t kClipEdge = -1;
+  int n = 0;
+  ClipperLib::IntPoint q[kCapacity];
+  int8_t edge[kCapacity];
+};
+/// Fills `out` (out.n = 0 when nothing is left; n may be 1 or 2 for a polygon touching the
+/// pyramid in a point or segment: such chains are still closed and may be emitted).
+void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
+                  ClippedPolygon& out);
+
+/// One directed edge of a closed chain of light-uv segments.
+struct DirectedEdge {
+  ClipperLib::IntPoint from, to;
+};
+/// Closed loops with the same winding-number field as `edges`, a union of closed chains (at every
+/// point as many edges arrive as leave), with every pair of opposite copies of one segment
+/// removed (cancel = false keeps them: the same winding field, for edge sets known to have none
+/// worth the hash). `edges` is used as scratch. The loops are written to loops[0, count), count
+/// returned; `loops` only grows, so a buffer reused from pixel to pixel keeps its paths' capacity.
+size_t trace_loops(std::vector<DirectedEdge>& edges, ClipperLib::Paths& loops, bool cancel = true);
 
 /// The emitting shape in light uv: the unit square, or for round lights a regular polygon with the
 /// same area as the inscribed circle (see make_light_outline for the error this causes).
@@ -97,6 +140,9 @@ struct LightRegion {
 /// loops is the union of the polygons (exactly: winding numbers add, and a cancelled pair
 /// contributes nothing), at the cost of its outlines only.
 ClipperLib::Paths cancel_shared_edges(std::span<const ClipperLib::Path> polygons);
+/// The edges of positively oriented `polygons`, appended to `edges` (input of trace_loops).
+void append_polygon_edges(std::span<const ClipperLib::Path> polygons,
+                          std::vector<DirectedEdge>& edges);
 
 /// Union (non-zero fill) of positively oriented polygons by pairwise reduction: groups of `group`
 /// consecutive polygons are united, then the partial unions pairwise, so each pass sees the
@@ -118,8 +164,10 @@ inline constexpr size_t kUnionGroup = 32;
 /// group's deepest overlap, or once t^k < 1e-12 (the rest changes V by less than that).
 /// Cost: one Clipper intersection per (region, level), i.e. Π over groups of (1 + depth) operations
 /// on outlines; with one transmittance (the usual case) 1 + depth of the semi-opaque overlap.
+/// `opaque_loops`: closed loops whose non-zero winding region is the union of the opaque
+/// polygons (cancel_shared_edges of them, or trace_loops of their edges).
 std::vector<LightRegion> visible_regions(const LightOutline& outline,
-                                         std::span<const ClipperLib::Path> opaque,
+                                         std::span<const ClipperLib::Path> opaque_loops,
                                          const std::vector<SemiPolygon>& semi);
 
 /// Signed area of paths (Clipper units²): holes subtract.

@@ -41,6 +41,9 @@ struct Options {
   bool pixel_cull = true;
 };
 
+/// Cell lists longer than this get work items of 2 × `chunk` samples (see the items loop).
+constexpr uint64_t kLongCellList = 2048;
+
 /// Per-thread buffers of the rasterization pass.
 struct Scratch {
   CandidateBatch batch, pixel_batch;  // a work item's candidates, one pixel's
@@ -247,8 +250,11 @@ class Gears final : public ShadowMethod {
         sum_samples += pe - pb;
         tris_max = std::max<uint64_t>(tris_max, nt);
         samples_max = std::max<uint64_t>(samples_max, pe - pb);
-        for (uint32_t b = pb; b < pe; b += opt_.chunk)
-          items.push_back({c, b, std::min(pe, b + opt_.chunk)});
+        // Long lists (dense models: cells holding thousands of triangles) get items of twice the
+        // samples: each item gathers its cell's depth-cut prefix once, and there the gather, not
+        // the per-pixel cull of the item's survivors, is what grows (elephant 512²: −20 % CPU).
+        const uint32_t step = nt > kLongCellList ? 2 * opt_.chunk : opt_.chunk;
+        for (uint32_t b = pb; b < pe; b += step) items.push_back({c, b, std::min(pe, b + step)});
       }
 
       t0 = std::chrono::steady_clock::now();
@@ -464,8 +470,11 @@ class Gears final : public ShadowMethod {
                   const float pz = cells.sample_z[e];
                   const ItemBounds own = item_bounds(flat, &p.x, &p.y, &pz, 1);
                   constexpr int kChunk = 8 * kLanes;
+                  const ShadowBoxCull box{lo, hi, use_rows ? k : 0};
+                  const ShadowBoxCull* box_cull = pl.axis_aligned ? &box : nullptr;
                   for (int b = 0; b < sc.batch.count && !done; b += kChunk) {
-                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p);
+                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p,
+                                        box_cull);
                     done = rasterize(sc.pixel_batch);
                   }
                 } else {

@@ -63,6 +63,52 @@ inline vi floor_small(vf y) {
   return __builtin_convertvector(y + 64.0f, vi) - 64;
 }
 
+/// The vertices of batch lanes [first, first + 16) relative to the pixel point p: ax ay az bx … cz.
+inline void relative_vertices(const CandidateBatch& batch, int first, vf px, vf py, vf pz,
+                              vf r[9]) {
+  for (int c = 0; c < 9; ++c)
+    r[c] = load(&batch.v[c][first]) - (c % 3 == 0 ? px : c % 3 == 1 ? py : pz);
+}
+
+/// Separating-axis completion of the setup for the common case, 16 lanes: all three vertices
+/// (a, b, c, relative to the pixel point p) between the light plane and p (−p.z < a.z < 0). The
+/// triangle's shadow on the light is then the triangle of its vertices' projections from p, so
+/// its uv bounds must overlap the sample box [uv_lo, uv_hi] — and, with grid_k > 0, hold a sample
+/// centre. False only where that fails; lanes not between pass. Shared by setup_batch and the
+/// per-pixel cull (CandidateBatch::keep), which must compute bit-identical decisions.
+inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_lo, Vec2 uv_hi,
+                                   int grid_k) {
+  const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
+           cz = r[8];
+  const vi between =
+      (az < 0.0f) & (az > -pzv) & (bz < 0.0f) & (bz > -pzv) & (cz < 0.0f) & (cz > -pzv);
+  const vf ta = pzv / -az, tb = pzv / -bz, tc = pzv / -cz;
+  const vf ua = px + ax * ta, ub = px + bx * tb, uc = px + cx * tc;
+  const vf va = py + ay * ta, vb = py + by * tb, vc = py + cy * tc;
+  const vf u0 = vmin(vmin(ua, ub), uc), u1 = vmax(vmax(ua, ub), uc);
+  const vf v0 = vmin(vmin(va, vb), vc), v1 = vmax(vmax(va, vb), vc);
+  vi overlap = (u0 <= uv_hi.x) & (u1 >= uv_lo.x) & (v0 <= uv_hi.y) & (v1 >= uv_lo.y);
+  if (grid_k > 0) {
+    // Some sample centre ((i + ½)/k, (j + ½)/k) must lie in that bounding box: small shadows
+    // often fall between rows or columns. Widened by 10⁻⁴ light widths (far above the rounding
+    // of the projections), so the rasterizer still decides every sample near an edge.
+    const float kf = static_cast<float>(grid_k), slack = 1e-4f * kf;
+    const vf lim_lo = splat(-2.0f), lim_hi = splat(kf + 1.0f);
+    auto first_centre = [&](vf x) {  // ceil(k·x − ½ − slack), clamped to [−2, k + 1]
+      return -floor_small(-vmin(vmax(kf * x - 0.5f - slack, lim_lo), lim_hi));
+    };
+    auto last_centre = [&](vf x) {  // floor(k·x − ½ + slack), clamped to [−2, k + 1]
+      return floor_small(vmin(vmax(kf * x - 0.5f + slack, lim_lo), lim_hi));
+    };
+    const vi i0 = first_centre(u0), i1 = last_centre(u1);
+    const vi j0 = first_centre(v0), j1 = last_centre(v1);
+    const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
+    overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
+               ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
+  }
+  return overlap | ~between;
+}
+
 }  // namespace
 
 void CandidateBatch::reserve(size_t most) {
@@ -114,7 +160,7 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
 }
 
 void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
-                          const Vec3& p) {
+                          const Vec3& p, const ShadowBoxCull* box) {
   reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
   count = 0;
   const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
@@ -134,6 +180,13 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
     const vf tol = kPlaneRel * (load(&from.n1[first]) * p_inf + vmax(d, -d));
     kept &= ~(((side > tol) & (load(&from.lmin[first]) > 0.0f)) |
               ((side < -tol) & (load(&from.lmax[first]) < 0.0f)));
+    if (box != nullptr && movemask(kept) != 0) {
+      // setup_batch's shadow-box test, moved ahead of it with the same arithmetic: it rejects the
+      // same triangles, only before their edge planes are built (dense meshes: most of them).
+      vf r[9];
+      relative_vertices(from, first, px, py, pz, r);
+      kept &= shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k);
+    }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
     // Lanes m of src[first..] to to[count..], in order (4-byte elements: floats, ids, flags).
@@ -169,12 +222,10 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
                      Vec2 uv_hi, int grid_k, LineBatch& out) {
   const vf px = splat(light.p.x), py = splat(light.p.y), pz = splat(light.p.z);
   // Vertices relative to the pixel point.
-  const vf ax = load(&batch.v[0][first]) - px, ay = load(&batch.v[1][first]) - py,
-           az = load(&batch.v[2][first]) - pz;
-  const vf bx = load(&batch.v[3][first]) - px, by = load(&batch.v[4][first]) - py,
-           bz = load(&batch.v[5][first]) - pz;
-  const vf cx = load(&batch.v[6][first]) - px, cy = load(&batch.v[7][first]) - py,
-           cz = load(&batch.v[8][first]) - pz;
+  vf r[9];
+  relative_vertices(batch, first, px, py, pz, r);
+  const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
+           cz = r[8];
   // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [Wang 2014 §4.2: "an edge plane is defined by a
   // triangle edge and the eye of the camera that computes the bitmask"].
   vf nx[3], ny[3], nz[3];
@@ -220,39 +271,7 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
     store(out.b[m], B[m]);
     store(out.c[m], C[m]);
   }
-  if (light.axis_aligned) {
-    // Separating-axis completion for the common case: all three vertices between the light plane
-    // and P (−p.z < a.z < 0). The triangle's shadow on the light is then the triangle of its
-    // vertices' projections from P, so its uv bounds must overlap the sample box.
-    const vf pzv = splat(light.p.z);
-    const vi between =
-        (az < 0.0f) & (az > -pzv) & (bz < 0.0f) & (bz > -pzv) & (cz < 0.0f) & (cz > -pzv);
-    const vf ta = pzv / -az, tb = pzv / -bz, tc = pzv / -cz;
-    const vf ua = px + ax * ta, ub = px + bx * tb, uc = px + cx * tc;
-    const vf va = py + ay * ta, vb = py + by * tb, vc = py + cy * tc;
-    const vf u0 = vmin(vmin(ua, ub), uc), u1 = vmax(vmax(ua, ub), uc);
-    const vf v0 = vmin(vmin(va, vb), vc), v1 = vmax(vmax(va, vb), vc);
-    vi overlap = (u0 <= uv_hi.x) & (u1 >= uv_lo.x) & (v0 <= uv_hi.y) & (v1 >= uv_lo.y);
-    if (grid_k > 0) {
-      // Some sample centre ((i + ½)/k, (j + ½)/k) must lie in that bounding box: small shadows
-      // often fall between rows or columns. Widened by 10⁻⁴ light widths (far above the rounding
-      // of the projections), so the rasterizer still decides every sample near an edge.
-      const float kf = static_cast<float>(grid_k), slack = 1e-4f * kf;
-      const vf lim_lo = splat(-2.0f), lim_hi = splat(kf + 1.0f);
-      auto first_centre = [&](vf x) {  // ceil(k·x − ½ − slack), clamped to [−2, k + 1]
-        return -floor_small(-vmin(vmax(kf * x - 0.5f - slack, lim_lo), lim_hi));
-      };
-      auto last_centre = [&](vf x) {  // floor(k·x − ½ + slack), clamped to [−2, k + 1]
-        return floor_small(vmin(vmax(kf * x - 0.5f + slack, lim_lo), lim_hi));
-      };
-      const vi i0 = first_centre(u0), i1 = last_centre(u1);
-      const vi j0 = first_centre(v0), j1 = last_centre(v1);
-      const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
-      overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
-                 ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
-    }
-    ok &= overlap | ~between;
-  }
+  if (light.axis_aligned) ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k);
   const int live = std::min(kLanes, batch.count - first);
   const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
   if (grid_k > 0 && result != 0) {

@@ -18,6 +18,13 @@ namespace penumbra::gears {
 
 inline constexpr int kLanes = 16;  // triangles set up together (one AVX-512 register of floats)
 
+/// The sample box and grid setup_batch tests a shadow's bounding box against (its uv_lo, uv_hi,
+/// grid_k arguments), for CandidateBatch::keep.
+struct ShadowBoxCull {
+  Vec2 uv_lo{0.0f}, uv_hi{1.0f};
+  int grid_k = 0;
+};
+
 /// Candidate triangles of one work item (or of one pixel), in light space (SoA, padded to 16).
 struct CandidateBatch {
   std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
@@ -38,7 +45,10 @@ struct CandidateBatch {
   /// separating-plane test (TrianglePlane), in the same order. A pixel sets up only what this
   /// keeps. (The plane test on a whole item's box culls next to nothing: the planes of a curved
   /// surface cut it.)
-  void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p);
+  /// `box` (axis-aligned pixel lights only): also setup_batch's shadow-box test, with the same
+  /// arithmetic, so the set-up survivors (and so the masks) do not change.
+  void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p,
+            const ShadowBoxCull* box = nullptr);
   /// The lanes of batch [first, first+16) whose triangle is opaque.
   uint32_t opaque_lanes(int first) const {
     uint32_t m = 0;
