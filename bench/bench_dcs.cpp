@@ -17,24 +17,9 @@ namespace {
 
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const bench::Fixture* f =
-      bench::cached_frame(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
-                          static_cast<float>(state.range(2)));
-  if (!f) {
-    state.SkipWithError(bench::kNotFetched);
-    return;
-  }
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, options);
-  Counters counters;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    counters = r.per_light[0].counters;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  for (const char* key : {"silhouette_edges", "straddling_edges", "edges_per_penumbra_pixel",
-                          "covered_updates_per_pixel", "counter_max"})
-    if (counters.count(key)) state.counters[key] = counters.at(key);
+  bench::time_method(state, bench::frame_of(state, scene), method, options,
+                     {"silhouette_edges", "straddling_edges", "edges_per_penumbra_pixel",
+                      "covered_updates_per_pixel", "counter_max"});
 }
 
 void BM_Dcs(benchmark::State& state, const std::string& scene) {

@@ -2,13 +2,19 @@
 // and reused by every iteration, so iterations time the method alone.
 #pragma once
 
+#include <benchmark/benchmark.h>
+
+#include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
+#include "penumbra/shadows/registry.hpp"
 
 namespace penumbra::bench {
 
@@ -53,6 +59,43 @@ inline const Fixture* cached_frame(const std::string& scene, int size, int k,
     it = cache.emplace(key, std::move(f)).first;
   }
   return &it->second;
+}
+
+/// Times `method` with `options` on frame `f`, one Frame::run per iteration (`before_each`, when
+/// given, runs first inside the timed loop: e.g. a per-frame BVH rebuild). The listed counters of
+/// the last iteration become benchmark counters. Returns the last iteration's first light (its
+/// counters and stage times), or nothing when f is null: the benchmark is then skipped with
+/// kNotFetched.
+inline std::optional<Visibility> time_method(benchmark::State& state, const Fixture* f,
+                                             const std::string& method,
+                                             const std::map<std::string, std::string>& options,
+                                             std::initializer_list<const char*> counters = {},
+                                             const std::function<void()>& before_each = {}) {
+  if (!f) {
+    state.SkipWithError(kNotFetched);
+    return std::nullopt;
+  }
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  const MethodOptions opts = resolve_options(info, options);
+  std::optional<Visibility> last;
+  for (auto _ : state) {
+    if (before_each) before_each();
+    MethodResult r = f->frame->run(info, opts, false);
+    benchmark::DoNotOptimize(r.per_light[0].lit.data());
+    last = std::move(r.per_light[0]);
+  }
+  if (last)
+    for (const char* key : counters)
+      if (last->counters.count(key)) state.counters[key] = last->counters.at(key);
+  return last;
+}
+
+/// cached_frame for Args {size, k, light scale ×} at the given argument indices.
+inline const Fixture* frame_of(const benchmark::State& state, const std::string& scene,
+                               int size_arg = 0, int k_arg = 1, int light_scale_arg = 2) {
+  return cached_frame(
+      scene, static_cast<int>(state.range(size_arg)), static_cast<int>(state.range(k_arg)),
+      light_scale_arg < 0 ? 1.0f : static_cast<float>(state.range(light_scale_arg)));
 }
 
 }  // namespace penumbra::bench

@@ -23,31 +23,18 @@ namespace {
 
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 std::map<std::string, std::string> options, bool with_bvh_build = false) {
-  const bench::Fixture* f =
-      bench::cached_frame(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
-                          static_cast<float>(state.range(3)));
-  if (!f) {
-    state.SkipWithError("model not fetched: run scripts/fetch-models.sh");
-    return;
-  }
+  const bench::Fixture* f = bench::frame_of(state, scene, 0, 1, 3);
   if (method == "gears") options["grid"] = std::to_string(state.range(2));
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, options);
-  Counters counters;
-  for (auto _ : state) {
-    if (with_bvh_build) {
-      EmbreeScene rebuilt(*f->scene);  // a dynamic scene rebuilds its BVH every frame
-      benchmark::DoNotOptimize(rebuilt.handle());
-    }
-    const MethodResult r = f->frame->run(info, opts, false);
-    counters = r.per_light[0].counters;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  for (const char* key :
-       {"triangles_per_cell_avg", "triangles_per_cell_max", "samples_per_cell_avg",
-        "samples_per_cell_max", "pairs", "pairs_without_retraction", "assignments_grid",
-        "assignments_item", "assignments_total", "assignments_in_volume", "assignments_necessary"})
-    if (counters.count(key)) state.counters[key] = counters.at(key);
+  bench::time_method(
+      state, f, method, options,
+      {"triangles_per_cell_avg", "triangles_per_cell_max", "samples_per_cell_avg",
+       "samples_per_cell_max", "pairs", "pairs_without_retraction", "assignments_grid",
+       "assignments_item", "assignments_total", "assignments_in_volume", "assignments_necessary"},
+      [&] {
+        if (!with_bvh_build) return;
+        EmbreeScene rebuilt(*f->scene);  // a dynamic scene rebuilds its BVH every frame
+        benchmark::DoNotOptimize(rebuilt.handle());
+      });
 }
 
 void BM_Gears(benchmark::State& state, const std::string& scene) {

@@ -18,18 +18,7 @@ namespace penumbra {
 namespace {
 
 void run_method(benchmark::State& state, const std::string& method) {
-  const bench::Fixture* f = bench::cached_frame("bunny", static_cast<int>(state.range(0)),
-                                                static_cast<int>(state.range(1)));
-  if (!f) {
-    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
-    return;
-  }
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, {});
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
+  bench::time_method(state, bench::frame_of(state, "bunny", 0, 1, -1), method, {});
 }
 
 void BM_Raytrace(benchmark::State& state) {

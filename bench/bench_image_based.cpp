@@ -24,21 +24,8 @@ namespace {
 void run_method(benchmark::State& state, const std::string& method,
                 const std::map<std::string, std::string>& options, int size, int k,
                 int light_scale = 1) {
-  const bench::Fixture* f = bench::cached_frame("bunny", size, k, static_cast<float>(light_scale));
-  if (!f) {
-    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
-    return;
-  }
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, options);
-  std::map<std::string, double> counters;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    counters = r.per_light[0].counters;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  for (const char* c : {"occluder_texels", "penumbra_texels", "silhouette_faces"})
-    if (counters.count(c)) state.counters[c] = counters.at(c);
+  bench::time_method(state, bench::cached_frame("bunny", size, k, static_cast<float>(light_scale)),
+                     method, options, {"occluder_texels", "penumbra_texels", "silhouette_faces"});
 }
 
 constexpr int kSize = 1024;

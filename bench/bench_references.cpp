@@ -17,23 +17,12 @@ namespace {
 
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const bench::Fixture* f = bench::cached_frame(scene, static_cast<int>(state.range(0)),
-                                                static_cast<int>(state.range(1)));
-  if (!f) {
-    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
-    return;
-  }
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, options);
-  double rays = 0.0;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    rays = r.per_light[0].counters.count("rays") ? r.per_light[0].counters.at("rays") : 0.0;
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  if (rays > 0.0)
+  const bench::Fixture* f = bench::frame_of(state, scene, 0, 1, -1);
+  const std::optional<Visibility> v = bench::time_method(state, f, method, options);
+  if (!v) return;
+  if (v->counters.count("rays"))
     state.counters["rays_per_s"] =
-        benchmark::Counter(rays, benchmark::Counter::kIsIterationInvariantRate);
+        benchmark::Counter(v->counters.at("rays"), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["bvh_build_ms"] = f->frame->embree().build_ms();
 }
 

@@ -20,35 +20,13 @@ namespace {
 
 void run_method(benchmark::State& state, const std::string& scene, const std::string& method,
                 const std::map<std::string, std::string>& options) {
-  const bench::Fixture* f =
-      bench::cached_frame(scene, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
-                          static_cast<float>(state.range(2)));
-  if (!f) {
-    state.SkipWithError("bunny not fetched: run scripts/fetch-models.sh");
-    return;
+  const std::optional<Visibility> v =
+      bench::time_method(state, bench::frame_of(state, scene), method, options,
+                         {"pixels_inside_wedges", "pixel_tests", "wedges", "rays"});
+  if (v && v->counters.count("wedges")) {  // the last iteration's stage times
+    state.counters["pass2_ms"] = v->times.get("pass2") + v->times.get("pass2_blend");
+    state.counters["wedge_setup_ms"] = v->times.get("wedges");
   }
-  const MethodInfo& info = MethodRegistry::builtin().get(method);
-  const MethodOptions opts = resolve_options(info, options);
-  std::map<std::string, double> counters;
-  double pass2_ms = 0.0, setup_ms = 0.0;
-  for (auto _ : state) {
-    const MethodResult r = f->frame->run(info, opts, false);
-    counters = r.per_light[0].counters;
-    const StageTimes& t = r.per_light[0].times;
-    pass2_ms = t.get("pass2") + t.get("pass2_blend");  // the last iteration's
-    setup_ms = t.get("wedges");
-    benchmark::DoNotOptimize(r.per_light[0].lit.data());
-  }
-  for (const char* c : {"pixels_inside_wedges", "pixel_tests", "wedges"}) {
-    auto it = counters.find(c);
-    if (it != counters.end()) state.counters[c] = it->second;
-  }
-  if (counters.count("wedges")) {
-    state.counters["pass2_ms"] = pass2_ms;
-    state.counters["wedge_setup_ms"] = setup_ms;
-  }
-  auto it = counters.find("rays");
-  if (it != counters.end()) state.counters["rays"] = it->second;
 }
 
 void BM_Wedges(benchmark::State& state, const std::string& scene) {

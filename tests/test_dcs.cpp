@@ -24,15 +24,9 @@ using test::MaskAgreement;
 using test::TestFrame;
 
 LightSampleSpec pattern(SamplePattern p, int k) {
-  LightSampleSpec s;
-  s.pattern = p;
-  s.k = k;
-  s.seed = 5;
-  return s;
+  return test::sample_spec(p, k, 5);
 }
-LightSampleSpec grid(int k) {
-  return pattern(SamplePattern::grid, k);
-}
+using test::grid_samples;
 
 MaskAgreement compare_masks(const TestFrame& t,
                             const std::map<std::string, std::string>& options = {},
@@ -59,14 +53,14 @@ VDiff v_diff(const TestFrame& t, const Image<float>& a, const Image<float>& b) {
 }
 
 TEST(Dcs, MasksEqualRaytraceOnQuad) {
-  expect_equal_masks(compare_masks(make_test_frame("quad", 64, 64, grid(16))));
+  expect_equal_masks(compare_masks(make_test_frame("quad", 64, 64, grid_samples(16))));
 }
 
 /// Known defect, pinned: the ASan build (-O1) gives one mismatch in 448 000 that is not a tie (the
 /// segment crosses a sphere triangle 3.7e-3 inside its edges at t = 0.23: `raytrace` blocked,
 /// `dcs` lit; the release build has none). At most that one is allowed until it is found.
 TEST(Dcs, MasksEqualRaytraceOnSpheres) {
-  expect_equal_masks(compare_masks(make_test_frame("spheres", 48, 48, grid(16))), 100, 1);
+  expect_equal_masks(compare_masks(make_test_frame("spheres", 48, 48, grid_samples(16))), 100, 1);
 }
 
 /// The default scene's box, sphere and fence panel (alpha removed; with alpha=opaque `dcs` counts
@@ -74,9 +68,9 @@ TEST(Dcs, MasksEqualRaytraceOnSpheres) {
 /// its soft textured shadow volumes: tests/test_stsv.cpp).
 TEST(Dcs, MasksEqualRaytraceOnDefaultWithoutAlpha) {
   const auto t =
-      make_test_frame(test::without_alpha(make_builtin_scene("default")), 48, 48, grid(8));
+      make_test_frame(test::without_alpha(make_builtin_scene("default")), 48, 48, grid_samples(8));
   expect_equal_masks(compare_masks(t));
-  const auto with_alpha = make_test_frame("default", 16, 16, grid(2));
+  const auto with_alpha = make_test_frame("default", 16, 16, grid_samples(2));
   EXPECT_GT(with_alpha.run("dcs", {{"alpha", "opaque"}})
                 .per_light[0]
                 .counters.at("alpha_textured_as_opaque"),
@@ -88,7 +82,7 @@ TEST(Dcs, MasksEqualRaytraceOnDefaultWithoutAlpha) {
 /// on one edge): exact through the per-receiver multiplicities, no solid heuristic.
 TEST(Dcs, MasksEqualRaytraceOnOpenFlippedNonManifoldMesh) {
   expect_equal_masks(
-      compare_masks(make_test_frame(test::open_non_manifold_scene(), 48, 48, grid(8))));
+      compare_masks(make_test_frame(test::open_non_manifold_scene(), 48, 48, grid_samples(8))));
 }
 
 /// The centre count from the light-facing half of closed meshes plus winding numbers
@@ -98,12 +92,12 @@ TEST(Dcs, MasksEqualRaytraceWithClosedMeshesAroundCameraOrLight) {
   Scene room = make_builtin_scene("spheres");
   room.meshes.push_back(make_box(Vec3(0.0f, 2.5f, 0.0f), Vec3(7.0f, 3.2f, 7.0f)));
   room.meshes.back().material = room.meshes[0].material;
-  expect_equal_masks(compare_masks(make_test_frame(std::move(room), 32, 32, grid(8))), 50);
+  expect_equal_masks(compare_masks(make_test_frame(std::move(room), 32, 32, grid_samples(8))), 50);
   Scene lantern = make_builtin_scene("spheres");
   const Light& l = lantern.lights[0];
   lantern.meshes.push_back(make_box(l.center, Vec3(0.9f, 0.3f, 0.9f)));
   lantern.meshes.back().material = lantern.meshes[0].material;
-  const auto t = make_test_frame(std::move(lantern), 32, 32, grid(4));
+  const auto t = make_test_frame(std::move(lantern), 32, 32, grid_samples(4));
   const MethodResult d = t.run("dcs");
   double lit = 0.0;
   for (size_t i = 0; i < d.per_light[0].lit.size(); ++i)
@@ -119,15 +113,15 @@ TEST(Dcs, MasksEqualRaytraceForDiskAndSphereLights) {
     l.shape = shape;
     l.radius = 0.4f;
     l.normal = Vec3(0, -1, 0);
-    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 40, 40, grid(8))));
+    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 40, 40, grid_samples(8))));
   }
 }
 
 TEST(Dcs, MasksEqualRaytraceForEverySampleCount) {
   for (int k : {4, 8, 32})
-    expect_equal_masks(
-        compare_masks(make_test_frame("spheres", k == 32 ? 24 : 40, k == 32 ? 24 : 40, grid(k))),
-        k == 4 ? 20 : 100);
+    expect_equal_masks(compare_masks(make_test_frame("spheres", k == 32 ? 24 : 40,
+                                                     k == 32 ? 24 : 40, grid_samples(k))),
+                       k == 4 ? 20 : 100);
 }
 
 TEST(Dcs, MasksEqualRaytraceForIrregularPatterns) {
@@ -138,13 +132,13 @@ TEST(Dcs, MasksEqualRaytraceForIrregularPatterns) {
 }
 
 TEST(Dcs, MasksEqualGears) {
-  const auto t = make_test_frame("spheres", 40, 40, grid(16));
+  const auto t = make_test_frame("spheres", 40, 40, grid_samples(16));
   expect_equal_masks(test::compare_masks(t, "dcs", {}, true, "gears"));
 }
 
 /// Both wedge constructions bound the same regions: only the work changes, never the answer.
 TEST(Dcs, WedgeConstructionDoesNotChangeTheAnswer) {
-  const auto t = make_test_frame("spheres", 40, 40, grid(8));
+  const auto t = make_test_frame("spheres", 40, 40, grid_samples(8));
   const MethodResult paper = t.run("dcs", {}, true);
   const MethodResult hull = t.run("dcs", {{"construction", "hull"}}, true);
   EXPECT_EQ(paper.per_light[0].lit.pixels(), hull.per_light[0].lit.pixels());
@@ -154,7 +148,7 @@ TEST(Dcs, WedgeConstructionDoesNotChangeTheAnswer) {
 TEST(Dcs, PointLightEqualsShadowVolume) {
   Scene scene = make_builtin_scene("spheres");
   scene.lights[0].shape = LightShape::point;
-  const auto t = make_test_frame(std::move(scene), 64, 64, grid(2));
+  const auto t = make_test_frame(std::move(scene), 64, 64, grid_samples(2));
   const MethodResult d = t.run("dcs");
   const MethodResult sv = t.run("shadow_volume");
   EXPECT_EQ(d.per_light[0].lit.pixels(), sv.per_light[0].lit.pixels());
@@ -173,7 +167,7 @@ TEST(Dcs, CentreSilhouettesUnderestimateThePenumbra) {
   scene.lights[0].center = Vec3(0.0f, 2.4f, 0.0f);
   scene.lights[0].edge_u = Vec3(0, 0, 2.0f);
   scene.lights[0].edge_v = Vec3(2.0f, 0, 0);
-  const auto t = make_test_frame(std::move(scene), 48, 48, grid(8));
+  const auto t = make_test_frame(std::move(scene), 48, 48, grid_samples(8));
   const MethodResult ex = t.run("exact");
   const MethodResult rt = t.run("raytrace");
   const MethodResult light = t.run("dcs");
@@ -196,8 +190,8 @@ TEST(Dcs, CentreSilhouettesUnderestimateThePenumbra) {
 
 /// Eq. 4.2: per-sample emission weights, RGB, identical to raytrace's on the same samples.
 TEST(Dcs, TexturedLightRgbEqualsRaytrace) {
-  const auto t =
-      make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 40, 40, grid(8));
+  const auto t = make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 40, 40,
+                                 grid_samples(8));
   const MethodResult rt = t.run("raytrace");
   const MethodResult d = t.run("dcs");
   ASSERT_TRUE(d.per_light[0].lit_rgb.has_value());
@@ -217,8 +211,8 @@ TEST(Dcs, TexturedLightRgbEqualsRaytrace) {
 /// Eq. 4.6: `--shading integrate` sums the per-sample radiance of the unblocked samples; with
 /// dcs's masks the image is raytrace's.
 TEST(Dcs, IntegrateShadingEqualsRaytrace) {
-  const auto t =
-      make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 32, 32, grid(8));
+  const auto t = make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 32, 32,
+                                 grid_samples(8));
   const MethodResult rt = t.run("raytrace", {}, true);
   const MethodResult d = t.run("dcs", {}, true);
   const Image<Vec3> a = shade(*t.frame, {&rt.per_light[0]}, ShadingMode::integrate);
@@ -247,7 +241,8 @@ Scene semi_opaque(Scene scene, float transmittance) {
 /// §4.3.3 with one layer (the quad): the exact product and the paper's approximation agree, and
 /// both equal raytrace on the same samples and `exact` up to the sampling error.
 TEST(Dcs, SemiOpaqueOneLayerMatchesExact) {
-  const auto t = make_test_frame(semi_opaque(make_builtin_scene("quad"), 0.5f), 40, 40, grid(32));
+  const auto t =
+      make_test_frame(semi_opaque(make_builtin_scene("quad"), 0.5f), 40, 40, grid_samples(32));
   const MethodResult ex = t.run("exact");
   const MethodResult rt = t.run("raytrace");
   const MethodResult product = t.run("dcs");
@@ -266,7 +261,8 @@ TEST(Dcs, SemiOpaqueOneLayerMatchesExact) {
 /// Closed semi-opaque spheres: two crossings per sphere. The exact product equals raytrace; the
 /// paper's sum of opaqueness saturates (2 × (1 − 0.5) = 1: dark where the product gives 1/4).
 TEST(Dcs, SemiOpaqueSpheresProductEqualsRaytracePaperIsDarker) {
-  const auto t = make_test_frame(semi_opaque(make_builtin_scene("spheres"), 0.5f), 40, 40, grid(8));
+  const auto t =
+      make_test_frame(semi_opaque(make_builtin_scene("spheres"), 0.5f), 40, 40, grid_samples(8));
   const MethodResult rt = t.run("raytrace");
   const MethodResult product = t.run("dcs");
   const MethodResult paper = t.run("dcs", {{"semi_opaque", "paper"}});
@@ -282,7 +278,8 @@ TEST(Dcs, SemiOpaqueSpheresProductEqualsRaytracePaperIsDarker) {
 TEST(Dcs, MasksEqualRaytraceOnBunny) {
   if (!find_model("bunny00.off")) GTEST_SKIP() << "bunny not fetched: run scripts/fetch-models.sh";
   // Classification brute-forces 70k triangles per mismatch: only count here.
-  const MaskAgreement a = compare_masks(make_test_frame("bunny", 40, 40, grid(16)), {}, false);
+  const MaskAgreement a =
+      compare_masks(make_test_frame("bunny", 40, 40, grid_samples(16)), {}, false);
   std::printf("bunny masks: %llu pairs, %d blocked, %llu differ\n",
               static_cast<unsigned long long>(a.pairs), a.blocked,
               static_cast<unsigned long long>(a.differ));
@@ -294,14 +291,15 @@ TEST(Dcs, MasksEqualRaytraceOnBunny) {
 TEST(Dcs, MasksEqualRaytraceOnDragon) {
   if (!find_model("ChineseDragon-10kv.off"))
     GTEST_SKIP() << "dragon not fetched: run scripts/fetch-models.sh";
-  const MaskAgreement a = compare_masks(make_test_frame("dragon", 40, 40, grid(8)), {}, false);
+  const MaskAgreement a =
+      compare_masks(make_test_frame("dragon", 40, 40, grid_samples(8)), {}, false);
   EXPECT_GT(a.blocked, 500);
   EXPECT_LE(static_cast<double>(a.differ), 1e-3 * a.pairs) << a.differ << " of " << a.pairs;
   EXPECT_LE(a.mean_abs_dv, 1e-3);
 }
 
 TEST(Dcs, ReportsStagesAndCounters) {
-  const auto t = make_test_frame("spheres", 32, 32, grid(8));
+  const auto t = make_test_frame("spheres", 32, 32, grid_samples(8));
   const Visibility v = t.run("dcs").per_light[0];
   for (const char* key :
        {"silhouette_edges", "straddling_edges", "wedges", "edges_per_penumbra_pixel",

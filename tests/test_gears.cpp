@@ -25,15 +25,9 @@ using test::MaskAgreement;
 using test::TestFrame;
 
 LightSampleSpec pattern(SamplePattern p, int k) {
-  LightSampleSpec s;
-  s.pattern = p;
-  s.k = k;
-  s.seed = 7;
-  return s;
+  return test::sample_spec(p, k, 7);
 }
-LightSampleSpec grid(int k) {
-  return pattern(SamplePattern::grid, k);
-}
+using test::grid_samples;
 
 /// gears's masks against raytrace's (support/mask_agreement.hpp).
 MaskAgreement compare_masks(const TestFrame& t,
@@ -43,26 +37,26 @@ MaskAgreement compare_masks(const TestFrame& t,
 }
 
 TEST(Gears, MasksEqualRaytraceOnQuad) {
-  expect_equal_masks(compare_masks(make_test_frame("quad", 64, 64, grid(16))));
+  expect_equal_masks(compare_masks(make_test_frame("quad", 64, 64, grid_samples(16))));
 }
 
 TEST(Gears, MasksEqualRaytraceOnSpheres) {
-  expect_equal_masks(compare_masks(make_test_frame("spheres", 64, 64, grid(16))));
+  expect_equal_masks(compare_masks(make_test_frame("spheres", 64, 64, grid_samples(16))));
 }
 
 TEST(Gears, MasksEqualRaytraceOnFenceWithAlpha) {
-  expect_equal_masks(compare_masks(make_test_frame("fence", 64, 64, grid(16))));
+  expect_equal_masks(compare_masks(make_test_frame("fence", 64, 64, grid_samples(16))));
 }
 
 /// A dynamic scene: the occluder moves between two frames; nothing is kept between them.
 TEST(Gears, MasksEqualRaytraceWhenAnOccluderMoves) {
   Scene scene = make_builtin_scene("spheres");
-  const auto before = make_test_frame(scene, 48, 48, grid(8));
+  const auto before = make_test_frame(scene, 48, 48, grid_samples(8));
   expect_equal_masks(compare_masks(before));
   for (Mesh& m : scene.meshes)
     if (m.name != "ground")
       for (Vec3& p : m.positions) p += Vec3(0.15f, 0.1f, -0.2f);
-  expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid(8))));
+  expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid_samples(8))));
 }
 
 TEST(Gears, MasksEqualRaytraceOnBunny) {
@@ -70,7 +64,8 @@ TEST(Gears, MasksEqualRaytraceOnBunny) {
   // Measured: 0 of 463 104 (pixel, sample) pairs differ. Classification brute-forces 70k
   // triangles per mismatch, so at most a handful are allowed (rounding on a triangle edge may
   // differ between instruction sets), and each must be explained.
-  const MaskAgreement a = compare_masks(make_test_frame("bunny", 48, 48, grid(16)), {}, true);
+  const MaskAgreement a =
+      compare_masks(make_test_frame("bunny", 48, 48, grid_samples(16)), {}, true);
   std::printf("bunny masks: %llu pairs, %d blocked, %llu differ, %llu unexplained\n",
               static_cast<unsigned long long>(a.pairs), a.blocked,
               static_cast<unsigned long long>(a.differ),
@@ -83,7 +78,7 @@ TEST(Gears, MasksEqualRaytraceOnBunny) {
 
 /// Every option changes only the candidate sets, never the answer.
 TEST(Gears, OptionsDoNotChangeTheAnswer) {
-  const auto t = make_test_frame("spheres", 48, 48, grid(8));
+  const auto t = make_test_frame("spheres", 48, 48, grid_samples(8));
   const MethodResult base = t.run("gears", {}, true);
   for (const auto& opts :
        std::vector<std::map<std::string, std::string>>{{{"grid", "1"}},
@@ -102,7 +97,7 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
 /// Conservativeness: brute force over all triangles (double precision segment tests) on a small
 /// frame — no sample that some triangle blocks may be left lit, except on a numerical edge.
 TEST(Gears, NeverMissesABlockingTriangle) {
-  const auto t = make_test_frame("spheres", 20, 20, grid(4));
+  const auto t = make_test_frame("spheres", 20, 20, grid_samples(4));
   const MethodResult ge = t.run("gears", {}, true);
   const SampleMasks& mg = *ge.per_light[0].masks;
   const GBuffer& g = t.frame->gbuffer();
@@ -243,7 +238,7 @@ TEST(Gears, PixelCullIsConservative) {
 TEST(Gears, PointLightGivesTheHardShadow) {
   Scene scene = make_builtin_scene("spheres");
   scene.lights[0].shape = LightShape::point;
-  const auto t = make_test_frame(std::move(scene), 64, 64, grid(1));
+  const auto t = make_test_frame(std::move(scene), 64, 64, grid_samples(1));
   const MaskAgreement a = compare_masks(t);
   EXPECT_GT(a.blocked, 100);
   EXPECT_LE(static_cast<double>(a.differ), 1e-3 * a.pairs);
@@ -263,7 +258,7 @@ Scene glass_spheres(bool semi_opaque) {
 }
 
 TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
-  const auto t = make_test_frame(glass_spheres(true), 48, 48, grid(8));
+  const auto t = make_test_frame(glass_spheres(true), 48, 48, grid_samples(8));
   const MethodResult rt = t.run("raytrace");
   const MethodResult ge = t.run("gears");
   double diff = 0.0, max_diff = 0.0;
@@ -282,8 +277,8 @@ TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
 /// the memory they add is one n-float buffer per thread, not frame × samples (here that would be
 /// ≈ 3.5 MB: ~3 500 active pixels × 256 samples × 4 bytes).
 TEST(Gears, SemiOpaqueMemoryIsPerWorkItem) {
-  const auto glass = make_test_frame(glass_spheres(true), 64, 64, grid(16));
-  const auto opaque = make_test_frame(glass_spheres(false), 64, 64, grid(16));
+  const auto glass = make_test_frame(glass_spheres(true), 64, 64, grid_samples(16));
+  const auto opaque = make_test_frame(glass_spheres(false), 64, 64, grid_samples(16));
   const double with = glass.run("gears").per_light[0].counters.at("memory_bytes");
   const double without = opaque.run("gears").per_light[0].counters.at("memory_bytes");
   const double per_thread = 256.0 * sizeof(float);
@@ -299,7 +294,7 @@ TEST(Gears, DiskAndSphereLightsMatchRaytrace) {
     l.shape = shape;
     l.radius = 0.4f;
     l.normal = Vec3(0, -1, 0);
-    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid(8))));
+    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid_samples(8))));
   }
 }
 
@@ -339,7 +334,7 @@ Scene sphere_light_in_a_room() {
 }
 
 TEST(Gears, SphereLightAmongOccludersMatchesRaytrace) {
-  const auto t = make_test_frame(sphere_light_in_a_room(), 64, 64, grid(8));
+  const auto t = make_test_frame(sphere_light_in_a_room(), 64, 64, grid_samples(8));
   const MaskAgreement a = compare_masks(t);
   expect_equal_masks(a);
   EXPECT_EQ(a.differ, 0u);
@@ -361,7 +356,7 @@ TEST(Gears, IrregularPatternsMatchRaytrace) {
 
 /// Table 4 of the paper: the LUT variant's error against edge planes (max and mean per pixel).
 TEST(Gears, LutVariantErrorIsSmall) {
-  const auto t = make_test_frame("spheres", 64, 64, grid(16));
+  const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
   const MethodResult edge = t.run("gears");
   const MethodResult lut = t.run("gears", {{"variant", "lut"}, {"lut_resolution", "512"}});
   double mean = 0.0, max = 0.0;
@@ -379,7 +374,7 @@ TEST(Gears, LutVariantErrorIsSmall) {
 }
 
 TEST(Gears, ReportsThePaperStatistics) {
-  const auto t = make_test_frame("spheres", 48, 48, grid(8));
+  const auto t = make_test_frame("spheres", 48, 48, grid_samples(8));
   const Visibility v = t.run("gears").per_light[0];
   for (const char* key : {"pairs", "pairs_without_retraction", "triangles_per_cell_max",
                           "triangles_per_cell_avg", "samples_per_cell_max", "samples_per_cell_avg",

@@ -357,11 +357,7 @@ uint64_t mask_mismatches(const TestFrame& t, const std::string& method, uint64_t
   return n;
 }
 
-LightSampleSpec grid(int k) {
-  LightSampleSpec s = test::centre_sample();
-  s.k = k;
-  return s;
-}
+using test::grid_samples;
 
 /// A rect light lying on the ground, emitting up: every ground receiver is coplanar with the light,
 /// and the ground's own plane holds every light point (t = 1 on the ground for every segment).
@@ -370,7 +366,7 @@ TEST(TieRule, ReceiverCoplanarWithTheLight) {
   Scene s = test::box_scene(Vec3(0.0f, 0.5f, 0.0f), Vec3(0.3f, 0.5f, 0.3f), Vec3(1.2f, 0.0f, 0.0f));
   s.lights[0].edge_u = Vec3(0.0f, 0.0f, 1.0f);  // cross(edge_u, edge_v) = +y: emits up
   s.lights[0].edge_v = Vec3(1.0f, 0.0f, 0.0f);
-  const auto t4 = make_test_frame(s, 64, 64, grid(4));
+  const auto t4 = make_test_frame(s, 64, 64, grid_samples(4));
   uint64_t blocked = 0;
   const uint64_t g = mask_mismatches(t4, "gears", &blocked);
   std::printf("    gears: %llu of the samples differ from raytrace (%llu blocked)\n",
@@ -382,7 +378,7 @@ TEST(TieRule, ReceiverCoplanarWithTheLight) {
   EXPECT_EQ(hard_mismatches(t1, "shadow_volume", "raytrace"), 0);
   // exact against raytrace with 16 × 16 samples: sampling error only (it halves from 8 × 8 to
   // 16 × 16 and again to 32 × 32).
-  const auto t16 = make_test_frame(std::move(s), 48, 48, grid(16));
+  const auto t16 = make_test_frame(std::move(s), 48, 48, grid_samples(16));
   const Err e = error_of(t16, "raytrace");
   print("coplanar receivers, raytrace 16x16 vs exact", e);
   EXPECT_LT(e.mean_abs_shadowed, 0.019);  // measured 0.0162 (37 pixels; 8×8: 3× more)
@@ -401,8 +397,8 @@ TEST(TieRule, OccluderCoplanarWithTheLight) {
   without.meshes.push_back(make_quad(Vec3(2.0f, 3.0f, 0.0f), Vec3(0, 0, 2), Vec3(1, 0, 0)));
   with.meshes.push_back(make_quad(Vec3(0.5f, 3.0f, 0.0f), Vec3(0, 0, 2), Vec3(1, 0, 0)));
   without.meshes.back().material = with.meshes.back().material = 0;
-  const auto a = make_test_frame(std::move(without), 64, 64, grid(4));
-  const auto b = make_test_frame(std::move(with), 64, 64, grid(4));
+  const auto a = make_test_frame(std::move(without), 64, 64, grid_samples(4));
+  const auto b = make_test_frame(std::move(with), 64, 64, grid_samples(4));
   for (const char* method : {"exact", "raytrace", "gears", "shadow_volume"}) {
     const MethodResult ra = a.run(method), rb = b.run(method);
     double diff = 0.0;
@@ -428,7 +424,7 @@ TEST(TieRule, SphereLightInsideASphere) {
   s.meshes[1] = make_sphere(Vec3(0.0f, 1.5f, 0.0f), 0.35f, 16, 32);
   s.meshes[1].material = 0;
   s.lights[0].radius = 0.3f;
-  const auto t = make_test_frame(std::move(s), 48, 48, grid(4));
+  const auto t = make_test_frame(std::move(s), 48, 48, grid_samples(4));
   for (const char* method :
        {"exact", "raytrace", "gears", "shadow_volume", "wedges", "wedge_blend"}) {
     const MethodResult r = t.run(method);

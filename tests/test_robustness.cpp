@@ -210,12 +210,7 @@ Scene baseline_scene() {
   return s;
 }
 
-LightSampleSpec grid(int k) {
-  LightSampleSpec spec;
-  spec.pattern = SamplePattern::grid;
-  spec.k = k;
-  return spec;
-}
+using test::grid_samples;
 
 struct VisDiff {
   double max_abs = 0.0;
@@ -237,12 +232,12 @@ VisDiff compare_vis(const Image<float>& a, const Image<float>& b) {
 TEST(SelfIntersectionOffset, ADistantObjectDoesNotChangeTheFrame) {
   Scene near_only = baseline_scene();
   validate_scene(near_only);
-  const auto ref = test::make_test_frame(near_only, 48, 48, grid(4));
+  const auto ref = test::make_test_frame(near_only, 48, 48, grid_samples(4));
   for (const float far : {-1e4f, -1e5f}) {
     Scene with_far = baseline_scene();
     with_far.meshes.push_back(make_box(Vec3(0.0f, 0.5f, far), Vec3(0.1f)));
     validate_scene(with_far);
-    const auto t = test::make_test_frame(with_far, 48, 48, grid(4));
+    const auto t = test::make_test_frame(with_far, 48, 48, grid_samples(4));
     for (const char* method : {"exact", "raytrace"}) {
       const VisDiff d =
           compare_vis(ref.run(method).per_light[0].lit, t.run(method).per_light[0].lit);
@@ -271,14 +266,14 @@ Scene scaled(Scene s, float k) {
 TEST(ScaleInvariance, ScaledSceneRendersLikeTheUnscaledOne) {
   Scene unit = baseline_scene();
   validate_scene(unit);
-  const auto ref = test::make_test_frame(unit, 48, 48, grid(4));
+  const auto ref = test::make_test_frame(unit, 48, 48, grid_samples(4));
   const Image<float> ref_exact = ref.run("exact").per_light[0].lit;
   const Image<float> ref_rt = ref.run("raytrace").per_light[0].lit;
   for (const float k : {1e-7f, 1e-4f, 1e3f, 1e9f}) {
     Scene s = scaled(baseline_scene(), k);
     EXPECT_EQ(validate_scene(s), 0u) << "no triangle may be dropped at scale " << k;
     ASSERT_EQ(s.lights[0].shape, LightShape::rect);
-    const auto t = test::make_test_frame(s, 48, 48, grid(4));
+    const auto t = test::make_test_frame(s, 48, 48, grid_samples(4));
     const VisDiff de = compare_vis(ref_exact, t.run("exact").per_light[0].lit);
     const VisDiff dr = compare_vis(ref_rt, t.run("raytrace").per_light[0].lit);
     std::printf("scale %g: exact %d px > 1e-3 (max %.3g), raytrace %d px (max %.3g)\n", k,
@@ -308,7 +303,7 @@ TEST(TinyLights, VanishingLightsBecomePointLightsAndKeepTheirShadow) {
   Scene point = baseline_scene();
   point.lights[0].shape = LightShape::point;
   validate_scene(point);
-  const auto ref = test::make_test_frame(point, 32, 32, grid(1));
+  const auto ref = test::make_test_frame(point, 32, 32, grid_samples(1));
   const Image<float> ref_rt = ref.run("raytrace").per_light[0].lit;
   int shadowed = 0;
   for (size_t i = 0; i < ref_rt.size(); ++i) shadowed += ref_rt[i] == 0.0f;
@@ -323,7 +318,7 @@ TEST(TinyLights, VanishingLightsBecomePointLightsAndKeepTheirShadow) {
     l.edge_v = Vec3(0, 0, 1e-9f);
     validate_scene(s);
     EXPECT_EQ(s.lights[0].shape, LightShape::point);
-    const auto t = test::make_test_frame(s, 32, 32, grid(4));
+    const auto t = test::make_test_frame(s, 32, 32, grid_samples(4));
     for (const char* method : {"exact", "raytrace", "gears"}) {
       const VisDiff d = compare_vis(ref_rt, t.run(method).per_light[0].lit);
       EXPECT_EQ(d.pixels_over_1e3, 0) << method;

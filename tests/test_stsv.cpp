@@ -24,12 +24,7 @@ using test::make_test_frame;
 using test::MaskAgreement;
 using test::TestFrame;
 
-LightSampleSpec grid(int k) {
-  LightSampleSpec s;
-  s.pattern = SamplePattern::grid;
-  s.k = k;
-  return s;
-}
+using test::grid_samples;
 
 /// A measured figure held to within `rel` of itself.
 void expect_measured(double got, double measured, double rel, const char* what) {
@@ -85,7 +80,7 @@ Scene fence_with(const std::function<float(int, int)>& alpha) {
 // dcs: a covered opaque texel increments D [§5.2.2], so the masks are raytrace's.
 
 TEST(Stsv, DcsMasksEqualRaytraceOnFence) {
-  const auto t = make_test_frame("fence", 48, 48, grid(16));
+  const auto t = make_test_frame("fence", 48, 48, grid_samples(16));
   const MaskAgreement a = compare_masks(t, "dcs");
   expect_equal_masks(a, 10000);
   // Measured: 0 of 589 824 differ (release). The solid fence (alpha=opaque) differs on ~10 %.
@@ -104,7 +99,7 @@ TEST(Stsv, DcsMasksEqualRaytraceOnFence) {
 }
 
 TEST(Stsv, DcsMasksEqualRaytraceOnDefault) {
-  const auto t = make_test_frame("default", 48, 48, grid(8));
+  const auto t = make_test_frame("default", 48, 48, grid_samples(8));
   const MaskAgreement a = compare_masks(t, "dcs");
   expect_equal_masks(a, 1000);
   EXPECT_LE(a.differ, 20u);
@@ -119,7 +114,8 @@ TEST(Stsv, DcsMasksEqualRaytraceForRoundAndPointLightsAndPerPixelPatterns) {
     l.shape = shape;
     l.radius = 0.3f;
     l.normal = Vec3(0, -1, 0);
-    const auto t = make_test_frame(std::move(s), 40, 40, grid(shape == LightShape::point ? 1 : 8));
+    const auto t =
+        make_test_frame(std::move(s), 40, 40, grid_samples(shape == LightShape::point ? 1 : 8));
     expect_equal_masks(compare_masks(t, "dcs"), shape == LightShape::point ? 50 : 1000);
     const Diff w = diff(t, t.run("wedges"), t.run("raytrace"));
     EXPECT_LE(w.max_abs, 1e-6) << static_cast<int>(shape);
@@ -138,8 +134,8 @@ TEST(Stsv, DcsMasksEqualRaytraceForRoundAndPointLightsAndPerPixelPatterns) {
 /// A textured light: the STSV bitmask's occluded fraction per channel (emission-weighted) is
 /// subtracted from each channel of the wedges' RGB visibility; on `fence` that is raytrace's RGB.
 TEST(Stsv, TexturedLightRgbEqualsRaytrace) {
-  const auto t =
-      make_test_frame(test::with_textured_light(make_builtin_scene("fence")), 40, 40, grid(8));
+  const auto t = make_test_frame(test::with_textured_light(make_builtin_scene("fence")), 40, 40,
+                                 grid_samples(8));
   const MethodResult rt = t.run("raytrace");
   for (const char* method : {"dcs", "wedges", "wedge_blend"}) {
     const MethodResult r = t.run(method);
@@ -164,7 +160,7 @@ TEST(Stsv, TexturedLightRgbEqualsRaytrace) {
 // wedges: the STSV bitmask V_coef added to the wedges' [§5.2.1].
 
 TEST(Stsv, WedgesOnFenceTenTimesCloserToExactThanSolid) {
-  const auto t = make_test_frame("fence", 64, 64, grid(16));
+  const auto t = make_test_frame("fence", 64, 64, grid_samples(16));
   const MethodResult exact = t.run("exact");
   for (const char* method : {"wedges", "wedge_blend"}) {
     const Diff stsv = diff(t, t.run(method), exact);
@@ -193,7 +189,7 @@ TEST(Stsv, WedgesOverlappingSTrianglesAreExactPerSample) {
   second.material = s.meshes[1].material;
   for (Vec2& uv : second.uvs) uv = Vec2(uv.y, uv.x);  // slats across the first quad's
   s.meshes.push_back(second);
-  const auto t = make_test_frame(std::move(s), 48, 48, grid(8));
+  const auto t = make_test_frame(std::move(s), 48, 48, grid_samples(8));
   const MethodResult rt = t.run("raytrace");
   for (const char* method : {"wedges", "wedge_blend"}) {
     const Diff d = diff(t, t.run(method), rt);
@@ -221,9 +217,9 @@ TEST(Stsv, WedgeOverlapArtifactOfFigure54) {
   only_solid.meshes[1].casts_shadows = false;
   only_fence.meshes[2].casts_shadows = false;
   const int size = 64;
-  const auto t = make_test_frame(std::move(s), size, size, grid(16));
-  const auto ts = make_test_frame(std::move(only_solid), size, size, grid(16));
-  const auto tf = make_test_frame(std::move(only_fence), size, size, grid(16));
+  const auto t = make_test_frame(std::move(s), size, size, grid_samples(16));
+  const auto ts = make_test_frame(std::move(only_solid), size, size, grid_samples(16));
+  const auto tf = make_test_frame(std::move(only_fence), size, size, grid_samples(16));
   const MethodResult exact = t.run("exact"), dcs = t.run("dcs"), wedges = t.run("wedges");
   const MethodResult solid_wedges = ts.run("wedges"), solid_exact = ts.run("exact");
   const MethodResult fence_rt = tf.run("raytrace");
@@ -266,8 +262,8 @@ TEST(Stsv, TransparentTextureCastsNothing) {
   Scene none = fence_with([](int, int) { return 0.0f; });
   Scene without = none;
   without.meshes[1].casts_shadows = false;
-  const auto t = make_test_frame(none, 32, 32, grid(8));
-  const auto u = make_test_frame(without, 32, 32, grid(8));
+  const auto t = make_test_frame(none, 32, 32, grid_samples(8));
+  const auto u = make_test_frame(without, 32, 32, grid_samples(8));
   for (const char* method : {"dcs", "wedges", "wedge_blend"}) {
     const MethodResult r = t.run(method);
     EXPECT_TRUE(same_lit(r, u.run(method))) << method;
@@ -277,9 +273,9 @@ TEST(Stsv, TransparentTextureCastsNothing) {
   // texel (0, 63) lies in the box of triangle (0, 1, 2) but outside the triangle (u ≥ v there).
   Scene corner = fence_with([](int x, int y) { return x == 0 && y == 63 ? 1.0f : 0.0f; });
   corner.meshes[1].triangles.resize(1);
-  const auto c = make_test_frame(corner, 32, 32, grid(8));
+  const auto c = make_test_frame(corner, 32, 32, grid_samples(8));
   corner.meshes[1].casts_shadows = false;
-  const auto c0 = make_test_frame(corner, 32, 32, grid(8));
+  const auto c0 = make_test_frame(corner, 32, 32, grid_samples(8));
   for (const char* method : {"dcs", "wedges"}) {
     const MethodResult r = c.run(method);
     EXPECT_EQ(counter(r, "stsv_triangles"), 1.0) << method;
@@ -290,7 +286,8 @@ TEST(Stsv, TransparentTextureCastsNothing) {
 }
 
 TEST(Stsv, OpaqueTextureEqualsTheOpaquePathBitForBit) {
-  const auto t = make_test_frame(fence_with([](int, int) { return 1.0f; }), 32, 32, grid(8));
+  const auto t =
+      make_test_frame(fence_with([](int, int) { return 1.0f; }), 32, 32, grid_samples(8));
   for (const char* method : {"dcs", "wedges", "wedge_blend"}) {
     const MethodResult stsv = t.run(method, {}, true), solid = t.run(method, {{"alpha", "opaque"}});
     EXPECT_TRUE(same_lit(stsv, solid)) << method;
@@ -314,7 +311,7 @@ TEST(Stsv, BothSidesOfATriangleCast) {
     if (flip)
       for (Triangle& tri : s.meshes[1].triangles) std::swap(tri.v[1], tri.v[2]);
     s.camera.position = Vec3(0.0f, 3.5f, 2.5f);
-    const auto t = make_test_frame(std::move(s), 48, 48, grid(8));
+    const auto t = make_test_frame(std::move(s), 48, 48, grid_samples(8));
     const MethodResult r = t.run("dcs");
     EXPECT_EQ(counter(r, "stsv_two_sided_volumes"), 2.0);
     expect_equal_masks(compare_masks(t, "dcs"), 1000);
@@ -329,7 +326,7 @@ TEST(Stsv, SemiOpaqueTexturedOccluderMatchesRaytrace) {
   Scene s = make_builtin_scene("default");
   for (Material& m : s.materials)
     if (m.alpha_texture >= 0) m.transmittance = 0.5f;
-  const auto t = make_test_frame(std::move(s), 48, 48, grid(8));
+  const auto t = make_test_frame(std::move(s), 48, 48, grid_samples(8));
   const MethodResult rt = t.run("raytrace", {}, true);
   const MethodResult dcs = t.run("dcs", {}, true);
   const Diff d = diff(t, dcs, rt);
@@ -342,7 +339,7 @@ TEST(Stsv, SemiOpaqueTexturedOccluderMatchesRaytrace) {
   // Only the fence: the wedge methods' LS_buffer holds raytrace's transmittance per sample.
   Scene f = make_builtin_scene("fence");
   f.materials[f.meshes[1].material].transmittance = 0.5f;
-  const auto tf = make_test_frame(std::move(f), 48, 48, grid(8));
+  const auto tf = make_test_frame(std::move(f), 48, 48, grid_samples(8));
   const Diff w = diff(tf, tf.run("wedges"), tf.run("raytrace"));
   EXPECT_LE(w.max_abs, 1e-6);
   EXPECT_GT(w.shadowed, 300);
@@ -354,8 +351,8 @@ TEST(Stsv, MeshedAlphaRunsCastTheSameShadow) {
   const Scene alpha = make_builtin_scene("fence");
   const Scene meshed = with_meshed_alpha(alpha);
   EXPECT_EQ(meshed.meshes[1].triangle_count(), 856u);  // 52 rows of 8 slats, 12 rail rows of 1
-  const auto ta = make_test_frame(alpha, 48, 48, grid(8));
-  const auto tm = make_test_frame(meshed, 48, 48, grid(8));
+  const auto ta = make_test_frame(alpha, 48, 48, grid_samples(8));
+  const auto tm = make_test_frame(meshed, 48, 48, grid_samples(8));
   const MethodResult dcs = ta.run("dcs", {}, true), rt_meshed = tm.run("raytrace", {}, true);
   const GBuffer& ga = ta.frame->gbuffer();
   const GBuffer& gm = tm.frame->gbuffer();

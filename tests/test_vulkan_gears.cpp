@@ -15,11 +15,7 @@ namespace {
 
 using test::make_test_frame;
 
-LightSampleSpec grid(int k) {
-  LightSampleSpec s;
-  s.k = k;
-  return s;
-}
+using test::grid_samples;
 
 void expect_equal(const std::string& what, const test::MaskAgreement& a) {
   SCOPED_TRACE(what);
@@ -40,17 +36,17 @@ void check_frame(gpu::Backend& backend, const test::TestFrame& t, const std::str
 
 TEST(VulkanGears, MasksEqualCpuAndRaytraceOnQuad) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_frame(backend, make_test_frame("quad", 64, 64, grid(16)), "quad");
+  check_frame(backend, make_test_frame("quad", 64, 64, grid_samples(16)), "quad");
 }
 
 TEST(VulkanGears, MasksEqualCpuAndRaytraceOnSpheres) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_frame(backend, make_test_frame("spheres", 64, 64, grid(16)), "spheres");
+  check_frame(backend, make_test_frame("spheres", 64, 64, grid_samples(16)), "spheres");
 }
 
 TEST(VulkanGears, MasksEqualCpuAndRaytraceOnFenceWithAlpha) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_frame(backend, make_test_frame("fence", 64, 64, grid(16)), "fence");
+  check_frame(backend, make_test_frame("fence", 64, 64, grid_samples(16)), "fence");
 }
 
 Scene round_light_scene(LightShape shape) {
@@ -64,20 +60,22 @@ Scene round_light_scene(LightShape shape) {
 
 TEST(VulkanGears, DiskLight) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_frame(backend, make_test_frame(round_light_scene(LightShape::disk), 48, 48, grid(8)),
+  check_frame(backend,
+              make_test_frame(round_light_scene(LightShape::disk), 48, 48, grid_samples(8)),
               "disk light");
 }
 
 /// Per-pixel light frames (the sphere's silhouette disk from each pixel).
 TEST(VulkanGears, SphereLight) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_frame(backend, make_test_frame(round_light_scene(LightShape::sphere), 48, 48, grid(8)),
+  check_frame(backend,
+              make_test_frame(round_light_scene(LightShape::sphere), 48, 48, grid_samples(8)),
               "sphere light");
 }
 
 TEST(VulkanGears, ReportsGpuStageTimes) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  const test::TestFrame t = make_test_frame("spheres", 32, 32, grid(4));
+  const test::TestFrame t = make_test_frame("spheres", 32, 32, grid_samples(4));
   const MethodResult r = test::run_vulkan(backend, t, "gears");
   const StageTimes& times = r.per_light[0].times;
   for (const char* stage : {"gpu_pixel_cells", "gpu_triangle_count", "gpu_prefix_sum",
@@ -88,11 +86,11 @@ TEST(VulkanGears, ReportsGpuStageTimes) {
 
 TEST(VulkanGears, UnsupportedConfigurationsAreClearErrors) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  LightSampleSpec halton = grid(4);
+  LightSampleSpec halton = grid_samples(4);
   halton.pattern = SamplePattern::halton;
   const test::TestFrame t = make_test_frame("quad", 16, 16, halton);
   EXPECT_THROW(test::run_vulkan(backend, t, "gears"), Error);
-  const test::TestFrame t2 = make_test_frame("quad", 16, 16, grid(4));
+  const test::TestFrame t2 = make_test_frame("quad", 16, 16, grid_samples(4));
   EXPECT_THROW(test::run_vulkan(backend, t2, "gears", {{"variant", "lut"}}), Error);
 }
 

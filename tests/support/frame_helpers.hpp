@@ -100,12 +100,23 @@ inline Scene with_textured_light(Scene s) {
   return s;
 }
 
+/// k×k samples of `pattern`; `seed` drives the random patterns (the grid has none).
+inline LightSampleSpec sample_spec(SamplePattern pattern, int k, uint64_t seed = 1) {
+  LightSampleSpec s;
+  s.pattern = pattern;
+  s.k = k;
+  s.seed = seed;
+  return s;
+}
+
+/// The regular k×k grid on the light.
+inline LightSampleSpec grid_samples(int k) {
+  return sample_spec(SamplePattern::grid, k);
+}
+
 /// One grid sample at the light centre: raytrace's hard shadow, the point the hard methods use.
 inline LightSampleSpec centre_sample() {
-  LightSampleSpec s;
-  s.pattern = SamplePattern::grid;
-  s.k = 1;
-  return s;
+  return grid_samples(1);
 }
 
 inline TestFrame make_test_frame(Scene scene, int width, int height, const LightSampleSpec& spec) {
