@@ -387,5 +387,19 @@ TEST(Gears, ReportsThePaperStatistics) {
     EXPECT_GE(v.times.get(stage), 0.0) << stage;
 }
 
+// The item batch is in depth order, so each pixel's depth cut is a prefix of it and the per-pixel
+// cull scans only that: fewer candidates than the item kept (a full scan would read them all),
+// never fewer than it sets up.
+TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
+  const auto t = make_test_frame("spheres", 64, 64, grid(16));
+  const Visibility v = t.run("gears").per_light[0];
+  const double item = v.counters.at("assignments_item");
+  const double scanned = v.counters.at("pixel_cull_reads");
+  std::printf("item candidates %.0f, scanned per pixel %.0f (%.3f), set up %.0f\n", item, scanned,
+              scanned / item, v.counters.at("assignments_total"));
+  EXPECT_LE(scanned, 0.95 * item);  // measured 0.911
+  EXPECT_GE(scanned, v.counters.at("assignments_total"));
+}
+
 }  // namespace
 }  // namespace penumbra

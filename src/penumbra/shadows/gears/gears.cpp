@@ -172,8 +172,8 @@ class Gears final : public ShadowMethod {
     const bool simple_weights = !emission && !per_pixel_samples && !point;
 
     AssignStats astats;
-    std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, tested{0}, in_volume{0},
-        necessary{0}, early_full{0};
+    std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, pixel_scanned{0}, tested{0},
+        in_volume{0}, necessary{0}, early_full{0};
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
@@ -266,7 +266,7 @@ class Gears final : public ShadowMethod {
             sc.sv.resize(n);
             sc.cover.resize(words + 1);
             sc.blocked.resize(words + 1);
-            uint64_t l_grid = 0, l_read = 0, l_item = 0, l_tested = 0, l_volume = 0,
+            uint64_t l_grid = 0, l_read = 0, l_item = 0, l_scanned = 0, l_tested = 0, l_volume = 0,
                      l_necessary = 0, l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
@@ -472,8 +472,12 @@ class Gears final : public ShadowMethod {
                   constexpr int kChunk = 8 * kLanes;
                   const ShadowBoxCull box{lo, hi, use_rows ? k : 0};
                   const ShadowBoxCull* box_cull = pl.axis_aligned ? &box : nullptr;
-                  for (int b = 0; b < sc.batch.count && !done; b += kChunk) {
-                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, sc.batch.count), own, p,
+                  // The item batch is in depth order: this pixel's depth cut is a prefix of it
+                  // (samples nearer than the item's deepest skip the tail).
+                  const int scan_end = sc.batch.depth_prefix(own.zmax);
+                  l_scanned += scan_end;
+                  for (int b = 0; b < scan_end && !done; b += kChunk) {
+                    sc.pixel_batch.keep(sc.batch, b, std::min(b + kChunk, scan_end), own, p,
                                         box_cull);
                     done = rasterize(sc.pixel_batch);
                   }
@@ -499,6 +503,7 @@ class Gears final : public ShadowMethod {
             }
             from_grid += l_grid;
             item_kept += l_item;
+            pixel_scanned += l_scanned;
             gathered += l_read;
             tested += l_tested;
             in_volume += l_volume;
@@ -544,6 +549,8 @@ class Gears final : public ShadowMethod {
     c["assignments_grid"] = static_cast<double>(from_grid.load());  // the paper's per-cell lists
     c["gather_reads"] = static_cast<double>(gathered.load());  // list entries read per work item
     c["assignments_item"] = static_cast<double>(item_kept.load());  // after the per-item cull
+    // Item candidates the per-pixel cull scanned: each pixel's depth-cut prefix of its item's.
+    c["pixel_cull_reads"] = static_cast<double>(pixel_scanned.load());
     c["assignments_total"] =
         static_cast<double>(tested.load());  // set up: after the per-pixel cull
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());

@@ -7,6 +7,7 @@
 // are handled exactly by construction.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -49,6 +50,14 @@ struct CandidateBatch {
   /// arithmetic, so the set-up survivors (and so the masks) do not change.
   void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p,
             const ShadowBoxCull* box = nullptr);
+  /// End of the prefix of an item batch whose triangles pass the depth cut `zmin <= zmax`: the
+  /// gather keeps its cell list's (zmin, id) order, so a pixel's depth cut is a prefix too, and
+  /// keep() need not scan beyond it (it would reject every lane there).
+  int depth_prefix(float zmax) const {
+    return static_cast<int>(std::partition_point(zmin.begin(), zmin.begin() + count,
+                                                 [zmax](float z) { return z <= zmax; }) -
+                            zmin.begin());
+  }
   /// The lanes of batch [first, first+16) whose triangle is opaque.
   uint32_t opaque_lanes(int first) const {
     uint32_t m = 0;
@@ -58,6 +67,7 @@ struct CandidateBatch {
 
  private:
   void reserve(size_t most);
+  size_t reserved_ = 0;  // every array above holds at least this many elements
   void pad();
   void pad_setup();
 };
