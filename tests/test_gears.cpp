@@ -391,7 +391,7 @@ TEST(Gears, ReportsThePaperStatistics) {
 // cull scans only that: fewer candidates than the item kept (a full scan would read them all),
 // never fewer than it sets up.
 TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
-  const auto t = make_test_frame("spheres", 64, 64, grid(16));
+  const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
   const Visibility v = t.run("gears").per_light[0];
   const double item = v.counters.at("assignments_item");
   const double scanned = v.counters.at("pixel_cull_reads");

@@ -267,7 +267,7 @@ TEST(Ssm, BudgetHalvesTheOccluderMap) {
   const MethodResult exact = t.run("exact");
   const std::map<std::string, std::string> full = {{"resolution", "64"}, {"ssm_resolution", "96"}};
   std::map<std::string, std::string> capped = full;
-  capped["budget"] = "1";
+  capped["budget"] = "10";
   const MethodResult a = t.run("ssm", full), b = t.run("ssm", capped);
   const Visibility &va = a.per_light[0], &vb = b.per_light[0];
   const double ea = ssm_error(t, full, exact).mean_abs_shadowed;
@@ -276,14 +276,15 @@ TEST(Ssm, BudgetHalvesTheOccluderMap) {
               va.counters.at("update_bound"), vb.counters.at("update_bound"),
               vb.counters.at("occluder_resolution"), vb.counters.at("budget_halvings"), ea, eb);
   EXPECT_EQ(va.counters.at("budget_halvings"), 0.0);
-  EXPECT_GT(va.counters.at("update_bound"), 1e6);
-  EXPECT_LE(vb.counters.at("update_bound"), 1e6);
+  EXPECT_GT(va.counters.at("update_bound"), 1e7);
+  EXPECT_LE(vb.counters.at("update_bound"), 1e7);
   EXPECT_EQ(vb.counters.at("occluder_resolution"),
             64.0 / std::exp2(vb.counters.at("budget_halvings")));
   EXPECT_GE(vb.counters.at("budget_halvings"), 1.0);
-  // A large penumbra needs no fine map: measured 0.0976 at 8² against 0.1138 at 64².
-  EXPECT_LT(eb, ea + 0.005);
-  EXPECT_NEAR(ea, 0.1138, 0.003);
+  // A large penumbra needs no fine map: measured 0.1142 at 32² against 0.1138 at 64² (the
+  // ASan build's rounding: 0.1148 against 0.1149).
+  EXPECT_LT(eb, ea + 0.002);
+  EXPECT_NEAR(ea, 0.1143, 0.002);
 }
 
 // Geometry far outside every receiver's reach must not spread the occluder map over empty space:
