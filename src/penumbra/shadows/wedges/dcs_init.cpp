@@ -30,25 +30,24 @@ int winding_number(const Mesh& mesh, const MeshEdges& edges, const DVec3& x) {
 Image<int32_t> centre_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
                              const std::vector<const MeshEdges*>& edges, const Vec3& centre,
                              const ShadowVolumePixels& pixels) {
-  std::vector<const Mesh*> whole, facing;
-  std::vector<std::unique_ptr<Mesh>> owned;
+  std::vector<CountCaster> whole, facing;
+  std::vector<std::unique_ptr<std::vector<uint8_t>>> keep;  // the facing faces, per closed mesh
   int winding = 0;  // Σ over the closed meshes of w(c) − w(camera)
   for (size_t m = 0; m < meshes.size(); ++m) {
     const Mesh& mesh = *meshes[m];
     const MeshEdges& e = *edges[m];
     if (!e.closed_manifold() || ctx.scene.material_of(mesh).alpha_texture >= 0) {
-      whole.push_back(&mesh);
+      whole.push_back({&mesh, &e});
       continue;
     }
     const std::vector<int8_t> sides = face_sides(mesh, e, centre);
-    auto part = std::make_unique<Mesh>();
-    part->positions = mesh.positions;
-    for (size_t f = 0; f < sides.size(); ++f)
-      if (sides[f] > 0) part->triangles.push_back(mesh.triangles[f]);
+    auto facing_faces = std::make_unique<std::vector<uint8_t>>(sides.size());
+    bool any = false;
+    for (size_t f = 0; f < sides.size(); ++f) any |= ((*facing_faces)[f] = sides[f] > 0) != 0;
     winding += winding_number(mesh, e, DVec3(centre)) -
                winding_number(mesh, e, DVec3(ctx.scene.camera.position));
-    if (!part->triangles.empty()) facing.push_back(part.get());
-    owned.push_back(std::move(part));
+    if (any) facing.push_back({&mesh, &e, facing_faces.get()});
+    keep.push_back(std::move(facing_faces));
   }
   const GBuffer& g = ctx.gbuffer;
   Image<int32_t> out(g.width, g.height, 0);

@@ -318,23 +318,18 @@ std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& cent
 
 namespace {
 
-Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+Image<int32_t> counts_of(const ShadowContext& ctx, const std::vector<CountCaster>& casters,
                          const Vec3& point, const ShadowVolumePixels* pixels = nullptr) {
-  Scene part;
-  part.camera = ctx.scene.camera;
-  for (const Mesh* m : meshes) {
-    part.meshes.push_back(*m);
-    part.meshes.back().casts_shadows = true;
-  }
-  if (pixels) return shadow_volume_counts(part, *pixels, ctx.gbuffer, ctx.receivers, point);
-  return shadow_volume_counts(part, part.camera, ctx.gbuffer, ctx.receivers, point);
+  ShadowVolumePixels own;
+  if (!pixels) own = shadow_volume_pixels(ctx.scene.camera, ctx.gbuffer, ctx.receivers);
+  return shadow_volume_counts(casters, pixels ? *pixels : own, ctx.gbuffer, ctx.receivers, point);
 }
 
 }  // namespace
 
-Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<CountCaster>& casters,
                            const Vec3& point, const ShadowVolumePixels* pixels) {
-  return counts_of(ctx, meshes, point, pixels);
+  return counts_of(ctx, casters, point, pixels);
 }
 
 Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
@@ -353,9 +348,9 @@ Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, co
       counts = pixels ? shadow_volume_counts(ctx.scene, *pixels, g, ctx.receivers, point)
                       : shadow_volume_counts(ctx.scene, ctx.scene.camera, g, ctx.receivers, point);
     } else {
-      std::vector<const Mesh*> part;
+      std::vector<CountCaster> part;
       for (size_t m = 0; m < casters.meshes.size(); ++m)
-        if (casters.layers[m] == l) part.push_back(casters.meshes[m]);
+        if (casters.layers[m] == l) part.push_back({casters.meshes[m], &casters.edges[m]});
       counts = counts_of(ctx, part, point, pixels);
     }
     for (size_t i = 0; i < counts.size(); ++i)
@@ -374,7 +369,8 @@ GroupCounts group_counts(const ShadowContext& ctx, const Casters& casters, const
   if (!pixels_in) own = shadow_volume_pixels(ctx.scene.camera, ctx.gbuffer, ctx.receivers);
   const ShadowVolumePixels& pixels = pixels_in ? *pixels_in : own;
   for (size_t m = 0; m < casters.meshes.size(); ++m) {
-    const Image<int32_t> counts = counts_of(ctx, {casters.meshes[m]}, point, &pixels);
+    const Image<int32_t> counts =
+        counts_of(ctx, {{casters.meshes[m], &casters.edges[m]}}, point, &pixels);
     for (size_t i = 0; i < n; ++i) {
       if (counts[i] == 0) continue;
       per_group[m].emplace_back(static_cast<uint32_t>(i),

@@ -140,9 +140,9 @@ std::vector<WedgeEdge> silhouette_edges(const Casters& casters, const Vec3& cent
 Image<float> layered_counts(const ShadowContext& ctx, const Casters& casters, const Vec3& point,
                             const ShadowVolumePixels* pixels = nullptr);
 
-/// The shadow-volume count of `meshes` alone (every one casting): triangles crossed by the segment
-/// from each active pixel's shadow origin to `point`.
-Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
+/// The shadow-volume count of `casters` alone (every one casting, its prebuilt edges): triangles
+/// crossed by the segment from each active pixel's shadow origin to `point`.
+Image<int32_t> hard_counts(const ShadowContext& ctx, const std::vector<CountCaster>& casters,
                            const Vec3& point, const ShadowVolumePixels* pixels = nullptr);
 
 /// Pass 1 per group: for every active pixel the nonzero (group, count / layers), sorted by group

@@ -146,6 +146,26 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const Camera& camera, co
 Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels& px,
                                     const GBuffer& g, const Image<uint8_t>& receivers,
                                     const Vec3& light_point, ShadowVolumeStats* stats_out) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<const Mesh*> meshes;
+  for (const Mesh& m : scene.meshes)
+    if (m.casts_shadows && !m.triangles.empty()) meshes.push_back(&m);
+  std::vector<MeshEdges> edges(meshes.size());
+  parallel_chunks(meshes.size(), 1, [&](size_t a, size_t b) {
+    for (size_t k = a; k < b; ++k) edges[k] = build_mesh_edges(*meshes[k]);
+  });
+  std::vector<CountCaster> casters;
+  for (size_t k = 0; k < meshes.size(); ++k) casters.push_back({meshes[k], &edges[k]});
+  const double edges_ms = elapsed_ms(start);
+  Image<int32_t> counts = shadow_volume_counts(casters, px, g, receivers, light_point, stats_out);
+  if (stats_out) stats_out->edges_ms += edges_ms;
+  return counts;
+}
+
+Image<int32_t> shadow_volume_counts(std::span<const CountCaster> casters,
+                                    const ShadowVolumePixels& px, const GBuffer& g,
+                                    const Image<uint8_t>& receivers, const Vec3& light_point,
+                                    ShadowVolumeStats* stats_out) {
   ShadowVolumeStats stats;
   Image<int32_t> counts(g.width, g.height, 0);
   if (!px.any_active) return counts;
@@ -159,19 +179,31 @@ Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels
   std::vector<DVec3> pos;
   struct MeshData {
     const Mesh* mesh;
-    MeshEdges edges;
+    const MeshEdges& edges;
     std::vector<int8_t> sides;
     std::vector<SilhouetteEdge> silhouette;
     uint32_t base;
   };
   std::vector<MeshData> meshes;
-  for (const Mesh& m : scene.meshes) {
-    if (!m.casts_shadows || m.triangles.empty()) continue;
-    MeshData d{&m, build_mesh_edges(m), {}, {}, static_cast<uint32_t>(pos.size())};
+  for (const CountCaster& c : casters) {
+    const Mesh& m = *c.mesh;
+    if (m.triangles.empty()) continue;
+    MeshData d{&m, *c.edges, {}, {}, static_cast<uint32_t>(pos.size())};
     for (const Vec3& p : m.positions) pos.push_back(DVec3(p));
     d.sides = face_sides(m, d.edges, light_point);
+    size_t kept = d.sides.size();
+    if (c.keep) {
+      // A face left out is edge-on to the count: no cap, no weight in any silhouette edge's
+      // multiplicity (the sum of side × orientation over its faces), so the count is the kept
+      // sub-mesh's, with the whole mesh's adjacency.
+      kept = 0;
+      for (size_t f = 0; f < d.sides.size(); ++f) {
+        if (!(*c.keep)[f]) d.sides[f] = 0;
+        kept += (*c.keep)[f] != 0;
+      }
+    }
     d.silhouette = silhouette_from_sides(d.edges, d.sides);
-    stats.caster_triangles += m.triangles.size();
+    stats.caster_triangles += kept;
     stats.silhouette_edges += d.silhouette.size();
     meshes.push_back(std::move(d));
   }

@@ -30,9 +30,11 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "penumbra/raster/projection.hpp"
+#include "penumbra/scene/edges.hpp"
 #include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
@@ -76,6 +78,20 @@ ShadowVolumePixels shadow_volume_pixels(const Camera& camera, const GBuffer& gbu
 Image<int32_t> shadow_volume_counts(const Scene& scene, const ShadowVolumePixels& pixels,
                                     const GBuffer& gbuffer, const Image<uint8_t>& receivers,
                                     const Vec3& light_point, ShadowVolumeStats* stats = nullptr);
+
+/// One caster of an explicit count: a mesh (casting whatever its flag says), its prebuilt edges,
+/// and optionally which of its faces take part (indexed like edges.faces; a face left out counts
+/// as no face at all). What the wedge methods and `dcs` use to count caster groups and sub-meshes
+/// without copying meshes or rebuilding their adjacency.
+struct CountCaster {
+  const Mesh* mesh = nullptr;
+  const MeshEdges* edges = nullptr;
+  const std::vector<uint8_t>* keep = nullptr;  // null: every face
+};
+Image<int32_t> shadow_volume_counts(std::span<const CountCaster> casters,
+                                    const ShadowVolumePixels& pixels, const GBuffer& gbuffer,
+                                    const Image<uint8_t>& receivers, const Vec3& light_point,
+                                    ShadowVolumeStats* stats = nullptr);
 
 /// The same for a shadow context, from hard_shadow_point(ctx.light).
 Image<int32_t> shadow_volume_counts(const ShadowContext& ctx, ShadowVolumeStats* stats = nullptr);
