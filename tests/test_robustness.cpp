@@ -136,6 +136,37 @@ TEST(MeshFiles, ValidatorCountsWhatTriangulationMustYield) {
   binary += std::string("\x03\x00\x00\x00\x00\x01\x00\x00\x00\x07\x00\x00\x00", 13);
   const std::string e = error_of([&] { validate_mesh_file(binary, ".ply"); });
   EXPECT_NE(e.find("has vertex index 7"), std::string::npos) << e;
+  // Elements without properties: an ASCII record is still one line (a huge count is refused, and
+  // the last line is not re-read for ever: a fuzzer's 13 s hang), a binary one takes no bytes.
+  const std::string empty_records =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement junk 200000000\nend_header\n0 0 0\n1 0 0\n0 1 0";
+  const std::string e_empty = error_of([&] { validate_mesh_file(empty_records, ".ply"); });
+  EXPECT_NE(e_empty.find("corrupt header: PLY declares 200000000 'junk'"), std::string::npos)
+      << e_empty;
+  const std::string last_line =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nelement junk 9\nend_header\n0 0 0\n1\n2\n3\n4 4 4 4 4 4";
+  const std::string e_last = error_of([&] { validate_mesh_file(last_line, ".ply"); });
+  EXPECT_NE(e_last.find("PLY: the file ends after 4 of 9 'junk' elements"), std::string::npos)
+      << e_last;
+  // OBJ statements are checked before assimp's parser (which corrupted its heap on a fuzzer's
+  // file with slashes in a texture coordinate): numbers, references within what is defined.
+  const std::string obj_ok =
+      "# a quad\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1 # four\nvt 0 0\nvn 0 1 0\ng quad\n"
+      "s off\nf 1/1/1 2//1 3/1 -1\n";
+  EXPECT_NO_THROW(validate_mesh_file(obj_ok, ".obj"));
+  for (const auto& [text, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"v 0 0 0\nvt 1/1/1 4/4/4/1 3\n", "OBJ line 2: '1/1/1' is not a number"},
+           {"v 0 0 0\nv 1 0 0\nf 1 2 3\n", "vertex reference '3' beyond the 2 defined so far"},
+           {"v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1/0 2 3\n", "bad vertex reference '1/0'"},
+           {"v 0 0 0\nv 1 0 0\nv 1 1 0\nf -4 2 3\n", "beyond the 3 defined so far"},
+           {"v 0 0 0\nv3/3/1t 1\n", "unsupported statement 'v3/3/1t'"},
+           {"v 0 0\n", "'v' takes 3-7 numbers"},
+           {"v 0 0 0\nv 1 0 0\nf 1 2\n", "'f' has too few vertex references"}}) {
+    const std::string e = error_of([&] { validate_mesh_file(text, ".obj"); });
+    EXPECT_NE(e.find(reason), std::string::npos) << text << " -> " << e;
+  }
   // Comments anywhere in an OFF file are skipped, not trusted or counted.
   const std::string off = "OFF\n# c\n4 1 0\n0 0 0\n1 0 0 # c\n1 1 0\n0 1 0\n4 0 1 2 3\n";
   EXPECT_EQ(validate_mesh_file(off, ".off")->triangles, 2u);

@@ -159,7 +159,11 @@ class PlyBody {
   /// false at the end of the data. Binary: always true (the reads check the length).
   bool begin_record() {
     if (format_ != PlyFormat::ascii) return true;
-    pos_ = line_end_ < body_.size() ? line_end_ : pos_;
+    // Past the previous record's line, also when it was the last one: a record that reads no
+    // value must not start on the same line again (a header with a huge count of empty
+    // records would loop on it).
+    if (in_record_) pos_ = line_end_;
+    in_record_ = true;
     while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
     if (pos_ >= body_.size()) return false;
     const size_t end = body_.find('\n', pos_);
@@ -200,7 +204,8 @@ class PlyBody {
   std::string_view body_;
   PlyFormat format_;
   size_t pos_ = 0;
-  size_t line_end_ = 0;  // ASCII: end of the current record's line
+  size_t line_end_ = 0;     // ASCII: end of the current record's line
+  bool in_record_ = false;  // ASCII: a record has begun (line_end_ is its line's end)
 };
 
 MeshFileCounts validate_ply(std::string_view bytes) {
@@ -262,7 +267,8 @@ MeshFileCounts validate_ply(std::string_view bytes) {
   for (const PlyElement& e : elements) {
     // Every record takes at least one byte per property (binary) or two (a digit and a
     // separator, ASCII): a larger count is a lying header, refused before anything is allocated.
-    size_t min_bytes = 0;
+    // An ASCII record is at least one non-blank line even without properties.
+    size_t min_bytes = format == PlyFormat::ascii && e.properties.empty() ? 1 : 0;
     for (const PlyProperty& p : e.properties)
       min_bytes += format == PlyFormat::ascii ? 2 : ply_size(p.list ? p.count_type : p.type);
     if (min_bytes > 0 && e.count > (body.size() + 1) / min_bytes)
@@ -276,6 +282,7 @@ MeshFileCounts validate_ply(std::string_view bytes) {
 
   PlyBody reader(body, format);
   for (const PlyElement& e : elements) {
+    if (e.properties.empty() && format != PlyFormat::ascii) continue;  // records of zero bytes
     const bool is_face = e.name == "face";
     for (uint64_t r = 0; r < e.count; ++r) {
       if (!reader.begin_record())
@@ -380,6 +387,72 @@ MeshFileCounts validate_off(std::string_view bytes) {
   return counts;
 }
 
+/// OBJ: every statement checked before assimp parses it (its parser corrupts its own heap on
+/// some malformed files: fuzzing found it). Vertex data must be numbers, and every face, line and
+/// point reference `v`, `v/t`, `v//n` or `v/t/n` a nonzero index within the elements defined so
+/// far (negative: relative to the end, as the format allows). Grouping, smoothing and material
+/// statements pass; any other statement is refused by name.
+void validate_obj(std::string_view bytes) {
+  uint64_t defined[3] = {0, 0, 0};  // v, vt, vn so far
+  size_t pos = 0, line_no = 0;
+  std::string_view line;
+  const auto where = [&] { return "OBJ line " + std::to_string(line_no) + ": "; };
+  const auto check_ref = [&](std::string_view ref) {
+    std::string_view parts[3];
+    int n = 0;
+    size_t start = 0;
+    for (size_t i = 0; i <= ref.size(); ++i)
+      if (i == ref.size() || ref[i] == '/') {
+        if (n == 3) bad(where() + "a vertex reference has more than three indices");
+        parts[n++] = ref.substr(start, i - start);
+        start = i + 1;
+      }
+    for (int k = 0; k < n; ++k) {
+      if (parts[k].empty() && k > 0) continue;  // v//n, v/t/ are the format's omissions
+      int64_t index = 0;
+      if (!parse_int(parts[k], index) || index == 0)
+        bad(where() + "bad vertex reference " + quote(ref, 40));
+      const uint64_t magnitude =
+          index < 0 ? static_cast<uint64_t>(-(index + 1)) + 1 : static_cast<uint64_t>(index);
+      if (magnitude > defined[k])
+        bad(where() + "vertex reference " + quote(ref, 40) + " beyond the " +
+            std::to_string(defined[k]) + " defined so far");
+    }
+  };
+  while (next_line(bytes, pos, line)) {
+    ++line_no;
+    const size_t hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    const std::vector<std::string_view> t = split(line);
+    if (t.empty()) continue;
+    const std::string_view key = t[0];
+    const auto numbers = [&](size_t lo, size_t hi) {
+      if (t.size() - 1 < lo || t.size() - 1 > hi)
+        bad(where() + quote(key) + " takes " + std::to_string(lo) + "-" + std::to_string(hi) +
+            " numbers");
+      for (size_t k = 1; k < t.size(); ++k)
+        if (!parse_number(t[k])) bad(where() + quote(t[k], 40) + " is not a number");
+    };
+    if (key == "v") {
+      numbers(3, 7);  // x y z [w], or x y z r g b
+      ++defined[0];
+    } else if (key == "vt") {
+      numbers(1, 3);
+      ++defined[1];
+    } else if (key == "vn") {
+      numbers(3, 3);
+      ++defined[2];
+    } else if (key == "f" || key == "l" || key == "p") {
+      if (t.size() < (key == "f" ? 4u : 2u))
+        bad(where() + quote(key) + " has too few vertex references");
+      for (size_t k = 1; k < t.size(); ++k) check_ref(t[k]);
+    } else if (key != "o" && key != "g" && key != "s" && key != "usemtl" && key != "mtllib" &&
+               key != "mg") {
+      bad(where() + "unsupported statement " + quote(key, 40));
+    }
+  }
+}
+
 }  // namespace
 
 std::optional<MeshFileCounts> validate_mesh_file(std::string_view bytes,
@@ -387,6 +460,7 @@ std::optional<MeshFileCounts> validate_mesh_file(std::string_view bytes,
   if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return validate_ply(bytes);
   if (extension == ".ply") bad("PLY: the file does not start with 'ply'");
   if (extension == ".off") return validate_off(bytes);
+  if (extension == ".obj") validate_obj(bytes);  // no counts: lines and points are dropped later
   return std::nullopt;
 }
 

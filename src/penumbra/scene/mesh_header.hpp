@@ -1,4 +1,4 @@
-// Validation of OFF and PLY files before assimp reads them. Assimp trusts their headers: a PLY
+// Validation of OFF, PLY and OBJ files before assimp reads them. Assimp trusts their headers: a PLY
 // without `end_header` spins or crashes, a face with no indices trips an assertion, a huge count
 // allocates gigabytes, and bad indices or short bodies are clamped or fabricated silently. These
 // checks walk the whole file (header, every vertex and face record) and reject what assimp would
@@ -18,9 +18,9 @@ struct MeshFileCounts {
   size_t triangles = 0;  // Σ (n − 2) over faces of n ≥ 3 indices: what triangulation must yield
 };
 
-/// `bytes` is the file's content, `extension` its lower-case extension (".off", ".ply").
+/// `bytes` is the file's content, `extension` its lower-case extension (".off", ".ply", ".obj").
 /// Returns the counts for OFF and PLY files, std::nullopt for other formats; throws Error naming
-/// the defect for a malformed OFF or PLY file.
+/// the defect for a malformed OFF, PLY or OBJ file (OBJ: every statement and vertex reference).
 std::optional<MeshFileCounts> validate_mesh_file(std::string_view bytes,
                                                  std::string_view extension);
 
