@@ -111,6 +111,8 @@ double winding_number(const Mesh& mesh, const MeshEdges& edges, const DVec3& poi
     const DVec3 a = DVec3(mesh.positions[w[0]]) - point, b = DVec3(mesh.positions[w[1]]) - point,
                 c = DVec3(mesh.positions[w[2]]) - point;
     const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    // Van Oosterom–Strackee: tan(Ω/2) = det(a, b, c) / (|a||b||c| + (a·b)|c| + (a·c)|b| +
+    // (b·c)|a|).
     const double num = glm::dot(a, glm::cross(b, c));
     const double den =
         la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;

@@ -4,28 +4,11 @@
 #include <memory>
 
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/orientation.hpp"
 #include "penumbra/scene/silhouettes.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 
 namespace penumbra::dcs {
-
-int winding_number(const Mesh& mesh, const MeshEdges& edges, const DVec3& x) {
-  double total = 0.0;
-  for (size_t f = 0; f < edges.faces.size(); ++f) {
-    if (!edges.face_valid(f)) continue;
-    const auto& w = edges.faces[f];
-    const DVec3 a = DVec3(mesh.positions[w[0]]) - x, b = DVec3(mesh.positions[w[1]]) - x,
-                c = DVec3(mesh.positions[w[2]]) - x;
-    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    // Van Oosterom–Strackee: tan(Ω/2) = det(a, b, c) / (|a||b||c| + (a·b)|c| + (b·c)|a| +
-    // (c·a)|b|).
-    const double num = glm::dot(a, glm::cross(b, c));
-    const double den =
-        la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb;
-    total += 2.0 * std::atan2(num, den);
-  }
-  return static_cast<int>(std::lround(total / (4.0 * kPi)));
-}
 
 Image<int32_t> centre_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
                              const std::vector<const MeshEdges*>& edges, const Vec3& centre,
@@ -44,8 +27,10 @@ Image<int32_t> centre_counts(const ShadowContext& ctx, const std::vector<const M
     auto facing_faces = std::make_unique<std::vector<uint8_t>>(sides.size());
     bool any = false;
     for (size_t f = 0; f < sides.size(); ++f) any |= ((*facing_faces)[f] = sides[f] > 0) != 0;
-    winding += winding_number(mesh, e, DVec3(centre)) -
-               winding_number(mesh, e, DVec3(ctx.scene.camera.position));
+    // Closed meshes: the generalized winding numbers are integers up to rounding.
+    winding +=
+        static_cast<int>(std::lround(winding_number(mesh, e, DVec3(centre)))) -
+        static_cast<int>(std::lround(winding_number(mesh, e, DVec3(ctx.scene.camera.position))));
     if (any) facing.push_back({&mesh, &e, facing_faces.get()});
     keep.push_back(std::move(facing_faces));
   }

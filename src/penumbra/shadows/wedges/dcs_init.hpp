@@ -24,10 +24,6 @@
 
 namespace penumbra::dcs {
 
-/// Generalized winding number of a closed mesh at x (Σ of the faces' signed solid angles / 4π,
-/// rounded): +1 inside a mesh whose faces point outward, 0 outside.
-int winding_number(const Mesh& mesh, const MeshEdges& edges, const DVec3& x);
-
 /// D(p, centre) for every active pixel over `meshes` (edges[k] the adjacency of meshes[k]).
 Image<int32_t> centre_counts(const ShadowContext& ctx, const std::vector<const Mesh*>& meshes,
                              const std::vector<const MeshEdges*>& edges, const Vec3& centre,
