@@ -40,7 +40,10 @@ bool clip_edge_to_light_square(const DVec3& A, const DVec3& B, DVec2& a, DVec2& 
   if (!clip_linear(A.y, B.y, t0, t1)) return false;
   if (!clip_linear(A.z - A.y, B.z - B.y, t0, t1)) return false;
   if (!(t0 < t1)) return false;
-  const DVec3 P = A + t0 * (B - A), Q = A + t1 * (B - A);
+  // An unclipped end is the vertex itself, not A + 1·(B − A), which can round to a neighbouring
+  // point: two silhouette edges that share a vertex must project it to the same uv, or the ray
+  // from the centre through it bounds their covered regions with a gap or an overlap.
+  const DVec3 P = t0 == 0.0 ? A : A + t0 * (B - A), Q = t1 == 1.0 ? B : A + t1 * (B - A);
   a = DVec2(P.x / P.z, P.y / P.z);
   b = DVec2(Q.x / Q.z, Q.y / Q.z);
   // Rounding in the divide may step a hair outside the square; the area formulas need inside.

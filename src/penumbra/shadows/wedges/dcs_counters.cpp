@@ -49,6 +49,10 @@ bool covered_region(const DVec2& a, const DVec2& b, CoveredRegion& r, int& turn)
     half_plane(r, 1, c, c - b, sg);  // clockwise of c → b: sg · cross(s − c, b − c) ≥ 0
     half_plane(r, 2, a, b - a, sg);  // beyond the line: sg · cross(b − a, s − a) < 0
     sector_v_range(c, a, b, sg, r);
+    // A sample s = c + λ·d on a ray (λ > 0) turned counter-clockwise by ε moves along rot90(d):
+    // h_0 changes by sg·ελ|d|², h_1 (direction −d) by −sg·ελ|d|².
+    r.closed[0] = sg > 0.0;
+    r.closed[1] = sg < 0.0;
     turn = o > 0.0 ? 1 : -1;
     return true;
   }

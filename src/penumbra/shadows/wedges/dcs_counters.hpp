@@ -30,10 +30,16 @@
 
 namespace penumbra::dcs {
 
-/// covered(s) ⟺ h1(s) ≥ 0 ∧ h2(s) ≥ 0 ∧ h3(s) < 0 with h_i(s) = a_i·u + b_i·v + c_i; every
-/// covered sample has v_lo ≤ v ≤ v_hi.
+/// covered(s) ⟺ h1(s) ⪰ 0 ∧ h2(s) ⪰ 0 ∧ h3(s) < 0 with h_i(s) = a_i·u + b_i·v + c_i; every
+/// covered sample has v_lo ≤ v ≤ v_hi. The two rays from c are where neighbouring silhouette edges'
+/// sectors meet (a shared vertex projects to one uv, so their h are exact negatives or equal): a
+/// sample on such a ray (h = 0 in float) must fall in exactly one of them, or its count is off by
+/// the edge's multiplicity. It is taken as if turned by an infinitesimal angle counter-clockwise
+/// about c (a symbolic perturbation, the same for every edge): `closed[k]` says whether h_k = 0
+/// then counts as inside.
 struct CoveredRegion {
   float a[3], b[3], c[3];
+  bool closed[2] = {true, true};
   double v_lo = 0.0, v_hi = 1.0;
 };
 
@@ -89,13 +95,16 @@ inline int apply_region(Counter* __restrict counters, const float* __restrict u,
   const float a0 = r.a[0], b0 = r.b[0], c0 = r.c[0];
   const float a1 = r.a[1], b1 = r.b[1], c1 = r.c[1];
   const float a2 = r.a[2], b2 = r.b[2], c2 = r.c[2];
+  const bool closed0 = r.closed[0], closed1 = r.closed[1];
   const Counter d = static_cast<Counter>(delta);
   int covered = 0;
   for (int s = 0; s < n; ++s) {
     const float h0 = a0 * u[s] + b0 * v[s] + c0;
     const float h1 = a1 * u[s] + b1 * v[s] + c1;
     const float h2 = a2 * u[s] + b2 * v[s] + c2;
-    const bool in = (h0 >= 0.0f) & (h1 >= 0.0f) & (h2 < 0.0f);
+    const bool in0 = (h0 > 0.0f) | ((h0 == 0.0f) & closed0);
+    const bool in1 = (h1 > 0.0f) | ((h1 == 0.0f) & closed1);
+    const bool in = in0 & in1 & (h2 < 0.0f);
     counters[s] += in ? d : Counter(0);
     covered += in;
   }
