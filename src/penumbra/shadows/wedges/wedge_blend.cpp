@@ -97,20 +97,32 @@ bool clip_to_part(int q, DVec2& a, DVec2& b) {
   return true;
 }
 
-/// Bounding rectangle (part-local) of the region of a part between the segment a→b and the
-/// part's boundary inside the sector from the centre spanned by a and b [Forest fig. 3.6], from
-/// `poly`, the part box clipped by the sector (clip_box_to_sector): its vertices without the
-/// centre, plus a and b. For round lights this bounds the square part's region, a superset of the
-/// disk part's.
-Rect region_rect(const DVec2* poly, int n, const DVec2& a, const DVec2& b) {
-  const DVec2 c(0.5);
-  Rect r;
-  auto add_uv = [&](const DVec2& p) { r.add(std::abs(p.x - 0.5), std::abs(p.y - 0.5)); };
-  add_uv(a);
-  add_uv(b);
-  for (int i = 0; i < n && n >= 3; ++i)
-    if (glm::dot(poly[i] - c, poly[i] - c) > 1e-24) add_uv(poly[i]);
-  return r;
+/// The sector from the light centre c spanned by a and b (both in one part, so at most 90° apart)
+/// within that part [Forest 2008 §3.2.1]. The part box has c at a corner, so in part-local
+/// coordinates (s, t) = |uv − c| the sector's part of the box is c, the exits of the rays through
+/// a and b on the box's far sides (at max(s, t) = ½), and the far corner (½, ½) when the diagonal
+/// lies between the rays: no general polygon clipping is needed.
+struct PartSector {
+  double area = 0.0;  // area(part ∩ sector) − area(c, a, b), signed by (c, a, b)'s turn
+  Rect rect;          // bounds the region between a→b and the part's boundary [Forest fig. 3.6]
+};
+
+bool part_sector(const DVec2& a, const DVec2& b, PartSector& out) {
+  const DVec2 da = a - DVec2(0.5), db = b - DVec2(0.5);
+  const double tri2 = cross2(da, db);
+  if (tri2 == 0.0) return false;
+  const DVec2 la = glm::abs(da), lb = glm::abs(db);
+  const DVec2 ea = la * (0.5 / std::max(la.x, la.y)), eb = lb * (0.5 / std::max(lb.x, lb.y));
+  // The mirror to local coordinates keeps areas; twice the area of c, ea, [corner,] eb.
+  const bool corner = (la.x > la.y) != (lb.x > lb.y);
+  const DVec2 k(0.5);
+  const double area2 =
+      corner ? std::abs(cross2(ea, k)) + std::abs(cross2(k, eb)) : std::abs(cross2(ea, eb));
+  out.area = (tri2 > 0.0 ? 0.5 : -0.5) * (area2 - std::abs(tri2));
+  out.rect = Rect{};
+  for (const DVec2& p : {la, lb, ea, eb}) out.rect.add(p.x, p.y);
+  if (corner) out.rect.add(0.5, 0.5);
+  return true;
 }
 
 /// How the blend measures light. Eq. 3.1's A (occluded), B (rectangle) and β (intersection)
@@ -257,17 +269,21 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                   const Wedge& w = bw.wedges[e.wedge];
                   const bool outer = pl->occlusion(w, e.area) > 0.0;
                   if (outer != (pass == 0)) continue;
+                  // The parts the segment's box reaches (most edges lie in one or two).
+                  const bool u_half[2] = {std::min(e.a.x, e.b.x) <= 0.5,
+                                          std::max(e.a.x, e.b.x) >= 0.5};
+                  const bool v_half[2] = {std::min(e.a.y, e.b.y) <= 0.5,
+                                          std::max(e.a.y, e.b.y) >= 0.5};
                   for (int q = 0; q < kParts; ++q) {
+                    if (!u_half[q & 1] || !v_half[(q >> 1) & 1]) continue;
                     DVec2 a = e.a, b = e.b;
                     if (!clip_to_part(q, a, b)) continue;  // line 7
                     // The sector from the centre through a, b lies in part q: its part of the
-                    // square is the part box clipped to it, which gives both the square's
-                    // sector-minus-triangle and the rectangle.
-                    DVec2 poly[8];
-                    const int n =
-                        clip_box_to_sector(part_lo(q), part_lo(q) + DVec2(0.5), a, b, poly);
-                    const double area = pl->round() ? disk_sector_minus_triangle(a, b)
-                                                    : sector_minus_triangle_of(poly, n, a, b);
+                    // square gives both the square's sector-minus-triangle and the rectangle.
+                    PartSector sector;
+                    if (!part_sector(a, b, sector)) continue;
+                    const double area =
+                        pl->round() ? disk_sector_minus_triangle(a, b) : sector.area;
                     if (area == 0.0) continue;
                     SvPart& p = sv[q];
                     const DVec3 share = measure.edge(*pl, w, a, b, area);  // line 8
@@ -277,7 +293,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                     const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
                                  bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
                     if (outer) {  // line 12: increase_brect; outer-edge maxima
-                      p.rect.add(region_rect(poly, n, a, b));
+                      p.rect.add(sector.rect);
                       p.outer_s = std::max({p.outer_s, as, bs});
                       p.outer_t = std::max({p.outer_t, at, bt});
                     } else {  // line 15: decrease_brect (below)
