@@ -69,53 +69,41 @@ bool clip_edge_to_light_disk(DVec2& a, DVec2& b) {
   return true;
 }
 
-int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b,
-                       DVec2 poly[8]) {
+BoxSector box_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b) {
   const DVec2 c(0.5);
   const DVec2 da = a - c, db = b - c;
-  const double tri2 = cross2(da, db);
-  if (tri2 == 0.0) return 0;
-  // The sector is the intersection of two half-planes through c (its angle is below π): clip the
-  // box against them, oriented so the sector lies on the left of c→a and the right of c→b.
-  const double s = tri2 > 0.0 ? 1.0 : -1.0;
-  poly[0] = lo;
-  poly[1] = DVec2(hi.x, lo.y);
-  poly[2] = hi;
-  poly[3] = DVec2(lo.x, hi.y);
-  int n = 4;
-  DVec2 tmp[8];
-  const DVec2 dirs[2] = {da, db};
-  for (int k = 0; k < 2; ++k) {
-    const double sign = (k == 0 ? s : -s);
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const DVec2 &p = poly[i], &q = poly[(i + 1) % n];
-      const double fp = sign * cross2(dirs[k], p - c), fq = sign * cross2(dirs[k], q - c);
-      if (fp >= 0.0) tmp[m++] = p;
-      if ((fp >= 0.0) != (fq >= 0.0)) tmp[m++] = p + (fp / (fp - fq)) * (q - p);
+  BoxSector out;
+  out.tri2 = cross2(da, db);
+  if (out.tri2 == 0.0) return out;
+  const double s = out.tri2 > 0.0 ? 1.0 : -1.0;
+  // Where the ray c + λ·d leaves the box (λ ≥ 0; the box holds c).
+  const auto exit = [&](const DVec2& d) {
+    double lambda = kInfinity;
+    for (int k = 0; k < 2; ++k) {
+      if (d[k] > 0.0) lambda = std::min(lambda, (hi[k] - c[k]) / d[k]);
+      if (d[k] < 0.0) lambda = std::min(lambda, (lo[k] - c[k]) / d[k]);
     }
-    n = m;
-    for (int i = 0; i < n; ++i) poly[i] = tmp[i];
-    if (n < 3) return n;
+    return c + lambda * d;
+  };
+  out.outline[out.n++] = exit(da);
+  // Corners strictly inside the sector (at most two, as its angle is below π), in angular order.
+  DVec2 corners[2];
+  int m = 0;
+  for (const DVec2& k : {lo, DVec2(hi.x, lo.y), hi, DVec2(lo.x, hi.y)}) {
+    const DVec2 dk = k - c;
+    if (m < 2 && s * cross2(da, dk) > 0.0 && s * cross2(dk, db) > 0.0) corners[m++] = k;
   }
-  return n;
+  if (m == 2 && s * cross2(corners[0] - c, corners[1] - c) < 0.0) std::swap(corners[0], corners[1]);
+  for (int i = 0; i < m; ++i) out.outline[out.n++] = corners[i];
+  out.outline[out.n++] = exit(db);
+  // The fan from c: every triangle (c, p_i, p_i+1) turns with s.
+  for (int i = 0; i + 1 < out.n; ++i)
+    out.area2 += s * cross2(out.outline[i] - c, out.outline[i + 1] - c);
+  return out;
 }
 
 double square_sector_minus_triangle(const DVec2& a, const DVec2& b) {
-  DVec2 poly[8];
-  const int n = clip_box_to_sector(DVec2(0.0), DVec2(1.0), a, b, poly);
-  return sector_minus_triangle_of(poly, n, a, b);
-}
-
-double sector_minus_triangle_of(const DVec2* poly, int n, const DVec2& a, const DVec2& b) {
-  const DVec2 c(0.5);
-  const double tri2 = cross2(a - c, b - c);  // twice the signed triangle area
-  if (tri2 == 0.0 || n < 3) return 0.0;
-  const double s = tri2 > 0.0 ? 1.0 : -1.0;
-  double area2 = 0.0;
-  for (int i = 0; i < n; ++i) area2 += cross2(poly[i], poly[(i + 1) % n]);
-  // area2 > 0 (the square is counter-clockwise); the result carries the sector's orientation.
-  return s * 0.5 * (std::abs(area2) - std::abs(tri2));
+  return box_sector(DVec2(0.0), DVec2(1.0), a, b).minus_triangle();
 }
 
 double disk_sector_minus_triangle(const DVec2& a, const DVec2& b) {
@@ -313,9 +301,13 @@ DVec3 weighted_region(const LightEmission& em, const DVec2& a, const DVec2& b, i
     poly[3] = DVec2(0.0, 1.0);
     n = 4;
   } else {
-    DVec2 p8[8];
-    n = clip_box_to_sector(DVec2(0.0), DVec2(1.0), a, b, p8);
-    for (int i = 0; i < n; ++i) poly[i] = p8[i];
+    // The sector's part of the square, counter-clockwise: c then its outline (reversed when
+    // (c, a, b) turns clockwise).
+    const BoxSector sector = box_sector(DVec2(0.0), DVec2(1.0), a, b);
+    if (sector.tri2 == 0.0) return DVec3(0.0);
+    poly[n++] = c;
+    for (int i = 0; i < sector.n; ++i)
+      poly[n++] = sector.outline[sector.tri2 > 0.0 ? i : sector.n - 1 - i];
   }
   if (n < 3) return DVec3(0.0);
   // The far side of the line a→b from c: right of a→b for sign > 0.

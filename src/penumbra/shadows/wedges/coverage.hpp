@@ -14,6 +14,7 @@
 // which is the paper's "hard shadow from the centre, plus inner, minus outer wedge halves".
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "penumbra/core/math.hpp"
@@ -30,21 +31,28 @@ bool clip_edge_to_light_square(const DVec3& A, const DVec3& B, DVec2& a, DVec2& 
 /// radius 0.5). False if nothing remains.
 bool clip_edge_to_light_disk(DVec2& a, DVec2& b);
 
-/// The box [lo, hi] (containing or touching c = (0.5, 0.5)) clipped to the sector from c spanned
-/// by a and b (angle below π): writes the polygon (at most 8 vertices, counter-clockwise) to
-/// `poly` and returns its vertex count (< 3: empty). 0 when c, a, b are collinear. Shared by
-/// square_sector_minus_triangle and wedge_blend's per-part rectangles [Forest 2008 §3.2.1].
-int clip_box_to_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b,
-                       DVec2 poly[8]);
+/// The sector from c = (0.5, 0.5) spanned by a and b (angle below π) within a box [lo, hi] that
+/// holds c (inside or on its border): a star polygon from c, so no clipping — its outline is the
+/// exit of the ray c → a through the box's border, the box corners strictly between the rays in
+/// angular order, then the exit of the ray c → b. Shared by square_sector_minus_triangle and
+/// wedge_blend's per-part areas and rectangles [Forest 2008 §3.2.1].
+struct BoxSector {
+  double tri2 = 0.0;   // cross(a − c, b − c): twice the signed area of (c, a, b); 0: no sector
+  double area2 = 0.0;  // twice the (unsigned) area of box ∩ sector
+  int n = 0;           // outline points without c: exit(a), corners, exit(b)
+  DVec2 outline[4];
+  /// area(box ∩ sector) − area(c, a, b), signed by (c, a, b)'s turn.
+  double minus_triangle() const {
+    return tri2 == 0.0 ? 0.0 : (tri2 > 0.0 ? 0.5 : -0.5) * (area2 - std::abs(tri2));
+  }
+};
+BoxSector box_sector(const DVec2& lo, const DVec2& hi, const DVec2& a, const DVec2& b);
 
 /// Signed area, in uv units, of the region of the uv square between the segment a→b (inside the
 /// square) and the square's boundary, inside the sector from c = (0.5, 0.5) spanned by a and b:
 /// area(square ∩ sector) − area(c, a, b) [Assarsson 2003 IV §4.2.2]. Positive when (c, a, b) turns
 /// counter-clockwise, negative when clockwise, 0 when c is on the segment's line.
 double square_sector_minus_triangle(const DVec2& a, const DVec2& b);
-/// The same from the polygon clip_box_to_sector gave for a box holding the sector's part of the
-/// square (the square itself, or the quadrant at c the segment lies in).
-double sector_minus_triangle_of(const DVec2* poly, int n, const DVec2& a, const DVec2& b);
 
 /// The same for the inscribed disk: (r²·angle(a, b) − cross(a − c, b − c)) / 2 with r = 0.5
 /// [Assarsson 2003 IV §4.2.1].

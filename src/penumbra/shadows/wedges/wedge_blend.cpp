@@ -91,37 +91,34 @@ bool clip_to_part(int q, DVec2& a, DVec2& b) {
       t1 = std::min(t1, t);
   }
   if (!(t0 < t1)) return false;
-  const DVec2 na = a + t0 * d, nb = a + t1 * d;
+  // Clamped: rounding must not put an end a hair outside the part (the sector's rays start at its
+  // corner c).
+  const DVec2 na = glm::clamp(a + t0 * d, lo, hi), nb = glm::clamp(a + t1 * d, lo, hi);
   a = na;
   b = nb;
   return true;
 }
 
-/// The sector from the light centre c spanned by a and b (both in one part, so at most 90° apart)
-/// within that part [Forest 2008 §3.2.1]. The part box has c at a corner, so in part-local
-/// coordinates (s, t) = |uv − c| the sector's part of the box is c, the exits of the rays through
-/// a and b on the box's far sides (at max(s, t) = ½), and the far corner (½, ½) when the diagonal
-/// lies between the rays: no general polygon clipping is needed.
+/// The sector from the light centre c spanned by a and b (both in part q) within that part
+/// [Forest 2008 §3.2.1]: its area minus the triangle (c, a, b), and the part-local rectangle that
+/// bounds the region between a→b and the part's boundary [Forest fig. 3.6] — a, b and the
+/// sector's outline in the part (c excluded).
 struct PartSector {
-  double area = 0.0;  // area(part ∩ sector) − area(c, a, b), signed by (c, a, b)'s turn
-  Rect rect;          // bounds the region between a→b and the part's boundary [Forest fig. 3.6]
+  double area = 0.0;
+  Rect rect;
 };
 
-bool part_sector(const DVec2& a, const DVec2& b, PartSector& out) {
-  const DVec2 da = a - DVec2(0.5), db = b - DVec2(0.5);
-  const double tri2 = cross2(da, db);
-  if (tri2 == 0.0) return false;
-  const DVec2 la = glm::abs(da), lb = glm::abs(db);
-  const DVec2 ea = la * (0.5 / std::max(la.x, la.y)), eb = lb * (0.5 / std::max(lb.x, lb.y));
-  // The mirror to local coordinates keeps areas; twice the area of c, ea, [corner,] eb.
-  const bool corner = (la.x > la.y) != (lb.x > lb.y);
-  const DVec2 k(0.5);
-  const double area2 =
-      corner ? std::abs(cross2(ea, k)) + std::abs(cross2(k, eb)) : std::abs(cross2(ea, eb));
-  out.area = (tri2 > 0.0 ? 0.5 : -0.5) * (area2 - std::abs(tri2));
+bool part_sector(int q, const DVec2& a, const DVec2& b, PartSector& out) {
+  const BoxSector sector = box_sector(part_lo(q), part_lo(q) + DVec2(0.5), a, b);
+  if (sector.tri2 == 0.0) return false;
+  out.area = sector.minus_triangle();
   out.rect = Rect{};
-  for (const DVec2& p : {la, lb, ea, eb}) out.rect.add(p.x, p.y);
-  if (corner) out.rect.add(0.5, 0.5);
+  const auto add_uv = [&](const DVec2& p) {
+    out.rect.add(std::abs(p.x - 0.5), std::abs(p.y - 0.5));
+  };
+  add_uv(a);
+  add_uv(b);
+  for (int i = 0; i < sector.n; ++i) add_uv(sector.outline[i]);
   return true;
 }
 
@@ -281,7 +278,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                     // The sector from the centre through a, b lies in part q: its part of the
                     // square gives both the square's sector-minus-triangle and the rectangle.
                     PartSector sector;
-                    if (!part_sector(a, b, sector)) continue;
+                    if (!part_sector(q, a, b, sector)) continue;
                     const double area =
                         pl->round() ? disk_sector_minus_triangle(a, b) : sector.area;
                     if (area == 0.0) continue;
