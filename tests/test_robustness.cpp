@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -177,6 +178,57 @@ TEST(MeshFiles, ValidatorCountsWhatTriangulationMustYield) {
       "property float y\nproperty float z\nproperty list uchar int extra\nelement face 1\n"
       "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   EXPECT_EQ(validate_mesh_file(lenient, ".ply")->triangles, 1u);
+}
+
+// STL is checked before assimp too: the binary size, finite coordinates, every ASCII statement in
+// order (assimp's ASCII reader skips unknown words and reads numbers unchecked).
+TEST(MeshFiles, StlIsValidatedBeforeAssimp) {
+  const std::string facet =
+      "  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 0\n"
+      "      vertex 0 1 0\n    endloop\n  endfacet\n";
+  const std::string ascii =
+      "solid a\n" + facet + facet + "endsolid a\nsolid b\n" + facet + "endsolid\n";
+  const auto counts = validate_mesh_file(ascii, ".stl");
+  ASSERT_TRUE(counts.has_value());
+  EXPECT_EQ(counts->triangles, 3u);
+  // Binary: 80-byte header, count 2, two 50-byte facets.
+  std::string binary(80, ' ');
+  binary += std::string("\x02\x00\x00\x00", 4) + std::string(100, '\0');
+  EXPECT_EQ(validate_mesh_file(binary, ".stl")->triangles, 2u);
+  std::string nan_binary = binary;
+  const float nan = std::nanf("");
+  std::memcpy(nan_binary.data() + 84 + 50 + 16, &nan, 4);  // facet 1, first vertex's y
+  const std::string e_nan = error_of([&] { validate_mesh_file(nan_binary, ".stl"); });
+  EXPECT_NE(e_nan.find("binary STL facet 1: a coordinate is not finite"), std::string::npos)
+      << e_nan;
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    std::string text = ascii;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  for (const auto& [text, reason] : std::vector<std::pair<std::string, std::string>>{
+           {replace("vertex 1 0 0", "vertex 1 0x 0"), "line 5: '0x' is not a number"},
+           {replace("vertex 1 0 0", "vertex 1 0"), "expected three numbers after vertex"},
+           {replace("endloop", "vertex 1 1 1\nendloop"), "at most three vertices"},
+           {replace("vertex 0 1 0\n", ""), "expected three vertices before 'endloop'"},
+           {replace("outer loop", "outer"), "'outer loop' after 'facet'"},
+           {replace("endsolid a\n", ""), "expected 'endsolid' before a new 'solid'"},
+           {ascii.substr(0, ascii.size() - 9), "the file ends inside a solid"},
+           {"solid empty\nendsolid\n", "ASCII STL: no facets"},
+           {"", "STL: the file is empty"},
+           {binary.substr(0, 130), "unknown statement"},  // neither the binary size nor ASCII
+           {replace("facet normal", "facet normale"), "'facet normal'"}}) {
+    const std::string e = error_of([&] { validate_mesh_file(text, ".stl"); });
+    EXPECT_NE(e.find(reason), std::string::npos) << text << " -> " << e;
+  }
+  // Through the loader: the one-line error names the file.
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("penumbra_stl_" + std::to_string(::getpid()) + ".stl");
+  std::ofstream(path) << replace("endloop", "vertex 1 1 1\nendloop");
+  const std::string e = error_of([&] { load_mesh_file(path); });
+  std::filesystem::remove(path);
+  EXPECT_EQ(e.rfind("cannot load mesh '", 0), 0u) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
 // ---- special files -----------------------------------------------------------------------------

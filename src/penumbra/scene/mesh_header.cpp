@@ -1,6 +1,7 @@
 #include "penumbra/scene/mesh_header.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -453,6 +454,86 @@ void validate_obj(std::string_view bytes) {
   }
 }
 
+/// Binary STL (80-byte header, a uint32 count, 50 bytes per facet) when the size says so, as assimp
+/// decides; otherwise ASCII, read statement by statement: solid … { facet normal n n n / outer
+/// loop / vertex x y z ×3 / endloop / endfacet } … endsolid, several solids allowed. Assimp's
+/// ASCII reader skips what it does not understand and reads numbers without checking them.
+MeshFileCounts validate_stl(std::string_view bytes) {
+  MeshFileCounts counts;
+  if (bytes.size() >= 84) {
+    uint32_t facets = 0;
+    std::memcpy(&facets, bytes.data() + 80, 4);
+    if (bytes.size() == 84 + 50 * static_cast<uint64_t>(facets)) {
+      if (facets == 0) bad("binary STL: no facets");
+      for (uint64_t f = 0; f < facets; ++f)
+        for (int k = 0; k < 12; ++k) {  // normal and three vertices
+          float value = 0.0f;
+          std::memcpy(&value, bytes.data() + 84 + 50 * f + 4 * k, 4);
+          if (!std::isfinite(value))
+            bad("binary STL facet " + std::to_string(f) + ": a coordinate is not finite");
+        }
+      counts.vertices = 3 * static_cast<size_t>(facets);
+      counts.faces = counts.triangles = facets;
+      return counts;
+    }
+  }
+  size_t pos = 0, line_no = 0;
+  std::string_view line;
+  enum class At { outside, solid, facet, loop, loop_done, facet_done };
+  At at = At::outside;
+  int vertices = 0;
+  const auto where = [&] { return "ASCII STL line " + std::to_string(line_no) + ": "; };
+  const auto expect = [&](bool ok, std::string_view what) {
+    if (!ok) bad(where() + "expected " + std::string(what));
+  };
+  while (next_line(bytes, pos, line)) {
+    ++line_no;
+    const std::vector<std::string_view> t = split(line);
+    if (t.empty()) continue;
+    const std::string_view key = t[0];
+    const auto numbers = [&](size_t first) {
+      expect(t.size() == first + 3, "three numbers after " + std::string(key));
+      for (size_t k = first; k < t.size(); ++k)
+        if (!parse_number(t[k])) bad(where() + quote(t[k], 40) + " is not a number");
+    };
+    if (key == "solid") {
+      expect(at == At::outside, "'endsolid' before a new 'solid'");
+      at = At::solid;
+    } else if (key == "endsolid") {
+      expect(at == At::solid, "'endfacet' before 'endsolid'");
+      at = At::outside;
+    } else if (key == "facet") {
+      expect(at == At::solid, "'facet' inside a solid");
+      expect(t.size() > 1 && t[1] == "normal", "'facet normal'");
+      numbers(2);
+      at = At::facet;
+    } else if (key == "outer") {
+      expect(at == At::facet && t.size() == 2 && t[1] == "loop", "'outer loop' after 'facet'");
+      at = At::loop;
+      vertices = 0;
+    } else if (key == "vertex") {
+      expect(at == At::loop && vertices < 3, "at most three vertices inside 'outer loop'");
+      numbers(1);
+      ++vertices;
+    } else if (key == "endloop") {
+      expect(at == At::loop && vertices == 3, "three vertices before 'endloop'");
+      at = At::loop_done;
+    } else if (key == "endfacet") {
+      expect(at == At::loop_done, "'endloop' before 'endfacet'");
+      at = At::solid;
+      ++counts.faces;
+    } else {
+      bad(where() + "unknown statement " + quote(key, 40));
+    }
+  }
+  if (line_no == 0 || at != At::outside)
+    bad(at == At::outside ? "STL: the file is empty" : "ASCII STL: the file ends inside a solid");
+  if (counts.faces == 0) bad("ASCII STL: no facets");
+  counts.vertices = 3 * counts.faces;
+  counts.triangles = counts.faces;
+  return counts;
+}
+
 }  // namespace
 
 std::optional<MeshFileCounts> validate_mesh_file(std::string_view bytes,
@@ -461,6 +542,7 @@ std::optional<MeshFileCounts> validate_mesh_file(std::string_view bytes,
   if (extension == ".ply") bad("PLY: the file does not start with 'ply'");
   if (extension == ".off") return validate_off(bytes);
   if (extension == ".obj") validate_obj(bytes);  // no counts: lines and points are dropped later
+  if (extension == ".stl") return validate_stl(bytes);
   return std::nullopt;
 }
 

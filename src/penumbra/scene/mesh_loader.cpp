@@ -140,7 +140,7 @@ std::string lowercase_extension(const std::filesystem::path& path) {
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
-  // OFF, PLY and OBJ are validated in full before assimp sees them (mesh_header.hpp).
+  // OFF, PLY, OBJ and STL are validated in full before assimp sees them (mesh_header.hpp).
   std::optional<MeshFileCounts> counts;
   try {
     counts = validate_mesh_file(read_file(path), lowercase_extension(path));
