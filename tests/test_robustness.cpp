@@ -178,6 +178,20 @@ TEST(MeshFiles, ValidatorCountsWhatTriangulationMustYield) {
       "property float y\nproperty float z\nproperty list uchar int extra\nelement face 1\n"
       "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   EXPECT_EQ(validate_mesh_file(lenient, ".ply")->triangles, 1u);
+  // An element or property declared twice: assimp wrote the second vertex element's records past
+  // the array it sized from the first (a fuzzer's heap overflow in a binary PLY).
+  const std::string twice =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\nend_header\n0\n0 0 0\n1 0 0\n0 1 0\n";
+  const std::string e_twice = error_of([&] { validate_mesh_file(twice, ".ply"); });
+  EXPECT_NE(e_twice.find("PLY header: element 'vertex' declared twice"), std::string::npos)
+      << e_twice;
+  const std::string property_twice =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float x\n"
+      "end_header\n0 0\n";
+  const std::string e_property = error_of([&] { validate_mesh_file(property_twice, ".ply"); });
+  EXPECT_NE(e_property.find("property 'x' of 'vertex' declared twice"), std::string::npos)
+      << e_property;
 }
 
 // STL is checked before assimp too: the binary size, finite coordinates, every ASCII statement in

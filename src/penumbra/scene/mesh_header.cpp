@@ -240,6 +240,10 @@ MeshFileCounts validate_ply(std::string_view bytes) {
       if (t.size() != 3 || !parse_uint(t[2], e.count))
         bad("PLY header: malformed element line " + quote(line));
       e.name = t[1];
+      // Assimp sizes its arrays from an element's first declaration and writes a second one's
+      // records past them (a fuzzer's heap overflow, seen by valgrind).
+      for (const PlyElement& other : elements)
+        if (other.name == e.name) bad("PLY header: element " + quote(e.name) + " declared twice");
       elements.push_back(std::move(e));
     } else if (t[0] == "property") {
       if (elements.empty()) bad("PLY header: property before any element");
@@ -255,6 +259,10 @@ MeshFileCounts validate_ply(std::string_view bytes) {
       } else {
         bad("PLY header: malformed property " + quote(line));
       }
+      for (const PlyProperty& other : elements.back().properties)
+        if (other.name == p.name)
+          bad("PLY header: property " + quote(p.name) + " of " + quote(elements.back().name) +
+              " declared twice");
       elements.back().properties.push_back(std::move(p));
     }
     // Other lines (an exporter's stray text) are skipped, as assimp skips them.
