@@ -12,7 +12,7 @@ PACKAGES=(
   # The Vulkan backend: loader + headers, the GLSL compiler, lavapipe (a CPU Vulkan 1.3 device,
   # so the GPU tests run everywhere) and the validation layer.
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
-  clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer with ASan+UBSan
+  clang libclang-rt-14-dev valgrind  # scripts/fuzz.sh: libFuzzer with ASan+UBSan, valgrind replay
   chromium  # the report's browser test (tests/report/browser_test.sh)
 )
 
