@@ -167,6 +167,58 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
   pad();
 }
 
+namespace {
+
+/// Lanes `m` of src[first, first + 16) to to[at...], in order (4-byte elements: floats, ids,
+/// flags).
+template <class T>
+inline void compress_lanes(T* to, int at, const T* src, int first, uint32_t m) {
+#if defined(__AVX512F__)
+  // Compress in a register, then one full store (the buffers have 2 × 16 spare lanes; later lanes
+  // overwrite the tail): the masked compress-store to memory is several times slower.
+  _mm512_storeu_si512(to + at, _mm512_maskz_compress_epi32(static_cast<__mmask16>(m),
+                                                           _mm512_loadu_si512(src + first)));
+#else
+  for (uint32_t l = m; l; l &= l - 1) to[at++] = src[first + std::countr_zero(l)];
+#endif
+}
+
+}  // namespace
+
+void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group) {
+  const int end = from.depth_prefix(group.zmax);
+  reserve(static_cast<size_t>(end) + 2 * kLanes);
+  count = 0;
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  for (int first = 0; first < end; first += kLanes) {
+    const vi kept = (lane_index + first < end) & (splat(group.ix0) <= load(&from.hx0[first])) &
+                    (splat(group.ix1) >= load(&from.hx1[first])) &
+                    (splat(group.iy0) <= load(&from.hy0[first])) &
+                    (splat(group.iy1) >= load(&from.hy1[first]));
+    const uint32_t m = movemask(kept);
+    if (m == 0) continue;
+    for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
+    for (auto [to, src] : {std::pair{&zmin, &from.zmin},
+                           {&hx0, &from.hx0},
+                           {&hx1, &from.hx1},
+                           {&hy0, &from.hy0},
+                           {&hy1, &from.hy1},
+                           {&nx, &from.nx},
+                           {&ny, &from.ny},
+                           {&nz, &from.nz},
+                           {&nd, &from.nd},
+                           {&n1, &from.n1},
+                           {&lmin, &from.lmin},
+                           {&lmax, &from.lmax}})
+      compress_lanes(to->data(), count, src->data(), first, m);
+    compress_lanes(tri.data(), count, from.tri.data(), first, m);
+    compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
+    count += std::popcount(m);
+  }
+  read = end;
+  pad();
+}
+
 void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
                           const Vec3& p, const ShadowBoxCull* box) {
   reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
@@ -197,21 +249,9 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
     }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
-    // Lanes m of src[first..] to to[count..], in order (4-byte elements: floats, ids, flags).
-    auto move = [&](auto& to, const auto& src) {
-#if defined(__AVX512F__)
-      // Compress in a register, then one full store (the buffer has 2 × 16 spare lanes; later
-      // lanes overwrite the tail): the masked compress-store to memory is several times slower.
-      _mm512_storeu_si512(&to[count], _mm512_maskz_compress_epi32(static_cast<__mmask16>(m),
-                                                                  _mm512_loadu_si512(&src[first])));
-#else
-      int o = count;
-      for (uint32_t l = m; l; l &= l - 1) to[o++] = src[first + std::countr_zero(l)];
-#endif
-    };
-    for (int c = 0; c < 9; ++c) move(v[c], from.v[c]);
-    move(tri, from.tri);
-    move(opaque, from.opaque);
+    for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
+    compress_lanes(tri.data(), count, from.tri.data(), first, m);
+    compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
     count += std::popcount(m);
   }
   pad_setup();

@@ -50,6 +50,12 @@ struct CandidateBatch {
   /// arithmetic, so the set-up survivors (and so the masks) do not change.
   void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p,
             const ShadowBoxCull* box = nullptr);
+  /// The candidates of an item batch `from` that pass may_block() for `group` (the ItemBounds of
+  /// some of the item's samples: depth cut and edge-angle slabs), in the same order, with every
+  /// array (a batch keep() can cull from). Each sample's own slab test implies its group's (the
+  /// bounds are min/max of the same float expressions), so keep() on this batch kept exactly what
+  /// it kept on `from`.
+  void narrow(const CandidateBatch& from, const ItemBounds& group);
   /// End of the prefix of an item batch whose triangles pass the depth cut `zmin <= zmax`: the
   /// gather keeps its cell list's (zmin, id) order, so a pixel's depth cut is a prefix too, and
   /// keep() need not scan beyond it (it would reject every lane there).
