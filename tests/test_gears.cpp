@@ -567,8 +567,9 @@ TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
 /// the early exits' chunking.
 TEST(Gears, SampleGroupsCutThePerPixelScan) {
   const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
-  const Visibility off = t.run("gears", {{"group", "0"}, {"grid", "16"}}).per_light[0];
-  const Visibility on = t.run("gears", {{"grid", "16"}}).per_light[0];
+  const Visibility off =
+      t.run("gears", {{"group", "0"}, {"grid", "16"}, {"hidden_cull", "false"}}).per_light[0];
+  const Visibility on = t.run("gears", {{"grid", "16"}, {"hidden_cull", "false"}}).per_light[0];
   const double ratio = on.counters.at("pixel_cull_reads") / off.counters.at("pixel_cull_reads");
   std::printf("per-pixel scan with groups / without: %.3f; group candidates %.0f of %.0f\n", ratio,
               on.counters.at("assignments_group"), on.counters.at("assignments_item"));

@@ -41,6 +41,7 @@ struct Options {
   bool pixel_cull = true;
   int group = 8;
   int long_chunk = 4;
+  bool hidden_cull = true;
 };
 
 /// Cell lists longer than this get work items of 2 × `chunk` samples (see the items loop).
@@ -177,7 +178,7 @@ class Gears final : public ShadowMethod {
 
     AssignStats astats;
     std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, group_kept{0}, pixel_scanned{0},
-        tested{0}, in_volume{0}, necessary{0}, early_full{0};
+        tested{0}, hidden{0}, in_volume{0}, necessary{0}, early_full{0};
     uint64_t tris_max = 0, samples_max = 0, nonempty_cells = 0, sum_tris = 0, sum_samples = 0;
     double raster_ms = 0.0, project_ms = 0.0;
     size_t peak_bytes = 0;
@@ -271,7 +272,7 @@ class Gears final : public ShadowMethod {
             sc.cover.resize(words + 1);
             sc.blocked.resize(words + 1);
             uint64_t l_grid = 0, l_read = 0, l_item = 0, l_group = 0, l_scanned = 0, l_tested = 0,
-                     l_volume = 0, l_necessary = 0, l_full = 0;
+                     l_volume = 0, l_hidden = 0, l_necessary = 0, l_full = 0;
             for (size_t it = r.begin(); it != r.end(); ++it) {
               const Item& item = items[it];
               // Samples are sorted by depth within the cell, so an item spans few depths.
@@ -366,6 +367,7 @@ class Gears final : public ShadowMethod {
                   const int nw = (ns + 63) / 64;
                   std::fill(sc.blocked.begin(), sc.blocked.end(), 0);
                   std::fill(std::begin(sc.rows), std::end(sc.rows), 0u);
+                  bool any_blocked = false;  // some bit of sc.rows is set
                   // Per-sample transmittance (semi-opaque occluders only), shaded with this pixel.
                   float* tr = nullptr;
                   if (any_translucent) {
@@ -400,6 +402,12 @@ class Gears final : public ShadowMethod {
                           setup_batch(cb, first, pl, lo, hi, use_rows ? k : 0, sc.lines);
                       l_tested += std::min(kLanes, cb.count - first);
                       l_volume += std::popcount(surv);
+                      if (use_rows && any_blocked && opt_.hidden_cull) {
+                        // Shadows wholly inside samples already blocked add nothing.
+                        const uint32_t hid = hidden_lanes(sc.lines.cells, surv, k, sc.rows);
+                        l_hidden += std::popcount(hid);
+                        surv &= ~hid;
+                      }
                       bool changed = false;
                       if (use_rows) {
                         // Opaque triangles straight into the pixel's rows; the others (alpha,
@@ -481,6 +489,7 @@ class Gears final : public ShadowMethod {
                           }
                         }
                       }
+                      any_blocked |= changed;
                       if (changed && fully_blocked()) {
                         ++l_full;
                         return true;
@@ -503,8 +512,10 @@ class Gears final : public ShadowMethod {
                     const int scan_end = from->depth_prefix(own.zmax);
                     l_scanned += scan_end;
                     for (int b = 0; b < scan_end && !done; b += kChunk) {
+                      // With the mask so far: shadows inside blocked samples are not set up.
+                      const bool hide = use_rows && any_blocked && opt_.hidden_cull;
                       sc.pixel_batch.keep(*from, b, std::min(b + kChunk, scan_end), own, p,
-                                          box_cull);
+                                          box_cull, hide ? sc.rows : nullptr);
                       done = rasterize(sc.pixel_batch);
                     }
                   } else {
@@ -531,6 +542,7 @@ class Gears final : public ShadowMethod {
             from_grid += l_grid;
             item_kept += l_item;
             group_kept += l_group;
+            hidden += l_hidden;
             pixel_scanned += l_scanned;
             gathered += l_read;
             tested += l_tested;
@@ -585,6 +597,8 @@ class Gears final : public ShadowMethod {
         static_cast<double>(tested.load());  // set up: after the per-pixel cull
     c["assignments_in_volume"] = static_cast<double>(in_volume.load());
     c["assignments_necessary"] = static_cast<double>(necessary.load());
+    // In the volume, but their shadow box held only samples already blocked: not rasterized.
+    c["assignments_hidden"] = static_cast<double>(hidden.load());
     c["pixels_early_full"] = static_cast<double>(early_full.load());
     c["memory_bytes"] = static_cast<double>(
         peak_bytes + masks.words_per_pixel() * 8.0 * g.pixel_count() +
@@ -671,6 +685,13 @@ void register_gears(MethodRegistry& registry) {
        {},
        0,
        1 << 20},
+      {"hidden_cull",
+       OptionType::boolean,
+       "true",
+       "skip a triangle whose shadow box holds only samples already blocked in the pixel's mask",
+       {},
+       0,
+       1},
       {"long_chunk",
        OptionType::integer,
        "4",
@@ -691,6 +712,7 @@ void register_gears(MethodRegistry& registry) {
     opt.pixel_cull = o.get_bool("pixel_cull");
     opt.group = o.get_int("group");
     opt.long_chunk = o.get_int("long_chunk");
+    opt.hidden_cull = o.get_bool("hidden_cull");
     return std::make_unique<Gears>(opt);
   };
   registry.add(std::move(info));

@@ -58,6 +58,12 @@ inline uint32_t movemask(vi m) {
 #endif
 }
 
+/// Bit l of `bits` as lane l of a comparison-style vector (−1 or 0).
+inline vi lane_mask(uint32_t bits) {
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  return ((vi{} + static_cast<int32_t>(bits)) >> lane_index & 1) != 0;
+}
+
 /// floor(y) for y ≥ −40 (after clamping), as exact integers in a float-free vector.
 inline vi floor_small(vf y) {
   return __builtin_convertvector(y + 64.0f, vi) - 64;
@@ -77,7 +83,7 @@ inline void relative_vertices(const CandidateBatch& batch, int first, vf px, vf 
 /// centre. False only where that fails; lanes not between pass. Shared by setup_batch and the
 /// per-pixel cull (CandidateBatch::keep), which must compute bit-identical decisions.
 inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_lo, Vec2 uv_hi,
-                                   int grid_k) {
+                                   int grid_k, ShadowCells* cells = nullptr) {
   const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
            cz = r[8];
   const vi between =
@@ -103,8 +109,16 @@ inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_
     const vi i0 = first_centre(u0), i1 = last_centre(u1);
     const vi j0 = first_centre(v0), j1 = last_centre(v1);
     const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
-    overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
-               ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
+    const vi ci0 = i0 > zero ? i0 : zero, ci1 = i1 < top ? i1 : top;
+    const vi cj0 = j0 > zero ? j0 : zero, cj1 = j1 < top ? j1 : top;
+    overlap &= (ci0 <= ci1) & (cj0 <= cj1);
+    if (cells != nullptr) {
+      std::memcpy(cells->box[0], &ci0, sizeof(ci0));
+      std::memcpy(cells->box[1], &ci1, sizeof(ci1));
+      std::memcpy(cells->box[2], &cj0, sizeof(cj0));
+      std::memcpy(cells->box[3], &cj1, sizeof(cj1));
+      cells->boxed = movemask(between & overlap);
+    }
   }
   return overlap | ~between;
 }
@@ -220,7 +234,9 @@ void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group)
 }
 
 void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
-                          const Vec3& p, const ShadowBoxCull* box) {
+                          const Vec3& p, const ShadowBoxCull* box, const uint32_t* rows) {
+  ShadowCells cells;
+  ShadowCells* want_cells = rows != nullptr && box != nullptr && box->grid_k > 0 ? &cells : nullptr;
   reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
   count = 0;
   const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
@@ -245,7 +261,10 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
       // same triangles, only before their edge planes are built (dense meshes: most of them).
       vf r[9];
       relative_vertices(from, first, px, py, pz, r);
-      kept &= shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k);
+      kept &=
+          shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k, want_cells);
+      if (want_cells != nullptr)
+        kept &= ~lane_mask(hidden_lanes(cells, movemask(kept), box->grid_k, rows));
     }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
@@ -321,7 +340,9 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
     store(out.b[m], B[m]);
     store(out.c[m], C[m]);
   }
-  if (light.axis_aligned) ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k);
+  out.cells.boxed = 0;
+  if (light.axis_aligned)
+    ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k, &out.cells);
   const int live = std::min(kLanes, batch.count - first);
   const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
   if (grid_k > 0 && result != 0) {
@@ -372,6 +393,31 @@ inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& v
 }
 
 }  // namespace
+
+uint32_t hidden_lanes(const ShadowCells& lines, uint32_t lanes, int k, const uint32_t* rows) {
+  lanes &= lines.boxed;
+  if (lanes == 0) return 0;
+  vi i0, i1, j0, j1;
+  std::memcpy(&i0, lines.box[0], sizeof(i0));
+  std::memcpy(&i1, lines.box[1], sizeof(i1));
+  std::memcpy(&j0, lines.box[2], sizeof(j0));
+  std::memcpy(&j1, lines.box[3], sizeof(j1));
+  // Bits i0 … i1 of a row (i1 ≤ 31: 2 << 31 wraps to 0, as in span_rows).
+  const vu need = ((vu{} + 2u) << __builtin_convertvector(i1, vu)) -
+                  ((vu{} + 1u) << __builtin_convertvector(i0, vu));
+  int jmin = k, jmax = -1;
+  for (uint32_t l = lanes; l; l &= l - 1) {
+    const int lane = std::countr_zero(l);
+    jmin = std::min(jmin, lines.box[2][lane]), jmax = std::max(jmax, lines.box[3][lane]);
+  }
+  vi hidden = vi{} - 1;
+  for (int j = jmin; j <= jmax; ++j) {
+    const vu row = vu{} + rows[j];
+    const vi in = (j0 <= j) & (j1 >= j);
+    hidden &= ~in | ((row & need) == need);
+  }
+  return movemask(hidden) & lanes;
+}
 
 uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
   uint32_t any = 0;
