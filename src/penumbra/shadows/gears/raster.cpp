@@ -394,28 +394,38 @@ inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& v
 
 }  // namespace
 
-uint32_t hidden_lanes(const ShadowCells& lines, uint32_t lanes, int k, const uint32_t* rows) {
-  lanes &= lines.boxed;
+uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, int k, const uint32_t* rows) {
+  (void)k;  // the boxes are clamped to the grid already
+  lanes &= cells.boxed;
   if (lanes == 0) return 0;
   vi i0, i1, j0, j1;
-  std::memcpy(&i0, lines.box[0], sizeof(i0));
-  std::memcpy(&i1, lines.box[1], sizeof(i1));
-  std::memcpy(&j0, lines.box[2], sizeof(j0));
-  std::memcpy(&j1, lines.box[3], sizeof(j1));
+  std::memcpy(&i0, cells.box[0], sizeof(i0));
+  std::memcpy(&i1, cells.box[1], sizeof(i1));
+  std::memcpy(&j0, cells.box[2], sizeof(j0));
+  std::memcpy(&j1, cells.box[3], sizeof(j1));
   // Bits i0 … i1 of a row (i1 ≤ 31: 2 << 31 wraps to 0, as in span_rows).
   const vu need = ((vu{} + 2u) << __builtin_convertvector(i1, vu)) -
                   ((vu{} + 1u) << __builtin_convertvector(i0, vu));
-  int jmin = k, jmax = -1;
-  for (uint32_t l = lanes; l; l &= l - 1) {
-    const int lane = std::countr_zero(l);
-    jmin = std::min(jmin, lines.box[2][lane]), jmax = std::max(jmax, lines.box[3][lane]);
-  }
-  vi hidden = vi{} - 1;
-  for (int j = jmin; j <= jmax; ++j) {
-    const vu row = vu{} + rows[j];
-    const vi in = (j0 <= j) & (j1 >= j);
-    hidden &= ~in | ((row & need) == need);
-  }
+  // Shadows of dense meshes span a row or two: rows j0, j0 + 1 and j1 cover boxes of up to three
+  // rows, read 16 lanes at once; taller boxes are never called hidden (they are rasterized).
+  const vi j_mid = j0 + 1 < j1 ? j0 + 1 : j1;
+  auto row_of = [&](vi j) {
+    vu r;
+#if defined(__AVX512F__)
+    __m512i idx;
+    std::memcpy(&idx, &j, sizeof(idx));
+    // Only the lanes asked about: the others' boxes may lie off the grid.
+    const __m512i g = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(),
+                                                  static_cast<__mmask16>(lanes), idx, rows, 4);
+    std::memcpy(&r, &g, sizeof(r));
+#else
+    r = vu{};
+    for (uint32_t l = lanes; l; l &= l - 1) r[std::countr_zero(l)] = rows[j[std::countr_zero(l)]];
+#endif
+    return r;
+  };
+  const vu blocked = row_of(j0) & row_of(j_mid) & row_of(j1);
+  const vi hidden = ((blocked & need) == need) & (j1 - j0 <= 2);
   return movemask(hidden) & lanes;
 }
 
