@@ -103,9 +103,12 @@ void group_samples(const FlatLight& light, const float* x, const float* y, const
     ends.push_back(count);
     return;
   }
-  auto key = [&](int i, int axis) {
-    return axis == 0 ? (x[i] - light.lx0) / z[i] : (y[i] - light.ly0) / z[i];
-  };
+  // The slab coordinates, once per sample (the splits compare them many times).
+  thread_local std::vector<float> keys;
+  keys.resize(2 * static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i)
+    keys[2 * i] = (x[i] - light.lx0) / z[i], keys[2 * i + 1] = (y[i] - light.ly0) / z[i];
+  auto key = [&](int i, int axis) { return keys[2 * i + axis]; };
   // Depth-first over [begin, end) ranges of `order`, so the groups come out in order.
   struct Range {
     int begin, end;

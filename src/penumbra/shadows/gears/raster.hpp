@@ -124,10 +124,11 @@ struct LineBatch {
 uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
                      Vec2 uv_hi, int grid_k, LineBatch& out);
 
-/// The lanes of `lanes` whose shadow box (LineBatch::box) holds only samples already set in
+/// The lanes of `lanes` whose shadow box (ShadowCells) holds only samples already set in
 /// rows[0..k): rasterizing them could add no bit (on closed meshes, the back faces behind front
 /// faces rasterized before them), and a semi-opaque one would only darken samples already
-/// blocked, which shading ignores.
+/// blocked, which shading ignores. Boxes over three rows tall are never hidden. `rows` must hold
+/// 32 entries (read as two registers).
 uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, int k, const uint32_t* rows);
 
 /// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32; `lines` set up with
