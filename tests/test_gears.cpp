@@ -88,7 +88,10 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"eye_distance", "0.1"}},
                                                        {{"eye_distance", "20"}},
                                                        {{"chunk", "1"}},
-                                                       {{"pixel_cull", "false"}}}) {
+                                                       {{"pixel_cull", "false"}},
+                                                       {{"group", "0"}},
+                                                       {{"hidden_cull", "false"}},
+                                                       {{"long_chunk", "1"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
   }
@@ -245,15 +248,18 @@ void expect_same_masks(const MethodResult& a, const MethodResult& b, const std::
   EXPECT_EQ(differ, 0u) << what;
 }
 
-/// The sample groups of a work item (option `group`) and the longer items of long cell lists
-/// (`long_chunk`) change which candidates each pixel's cull scans, never its masks: a rectangle, a
-/// disk and a sphere light (the last is not flat: one group per item), the default scene, and a
-/// one-cell grid where every cell list is long and every cell spans the whole depth range (sphere
-/// tops and the ground behind them).
+Scene glass_spheres(bool semi_opaque);  // below, with the semi-opaque tests
+
+/// The sample groups of a work item (option `group`), the longer items of long cell lists
+/// (`long_chunk`) and the hidden cull (`hidden_cull`) change which candidates each pixel's cull
+/// scans, sets up and rasterizes, never its masks: a rectangle, a disk and a sphere light (the
+/// last is not flat: one group per item), the default scene, semi-opaque spheres (V equal too),
+/// and a one-cell grid where every cell list is long and every cell spans the whole depth range
+/// (sphere tops and the ground behind them).
 TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
   std::vector<std::pair<std::string, TestFrame>> frames;
-  frames.emplace_back("spheres", make_test_frame("spheres", 40, 40, grid_samples(8)));
-  frames.emplace_back("default", make_test_frame("default", 40, 40, grid_samples(8)));
+  frames.emplace_back("spheres", make_test_frame("spheres", 32, 32, grid_samples(8)));
+  frames.emplace_back("default", make_test_frame("default", 32, 32, grid_samples(8)));
   for (LightShape shape : {LightShape::disk, LightShape::sphere}) {
     Scene scene = make_builtin_scene("spheres");
     Light& l = scene.lights[0];
@@ -261,17 +267,24 @@ TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
     l.radius = 0.4f;
     l.normal = Vec3(0, -1, 0);
     frames.emplace_back(shape == LightShape::disk ? "disk" : "sphere",
-                        make_test_frame(std::move(scene), 40, 40, grid_samples(8)));
+                        make_test_frame(std::move(scene), 32, 32, grid_samples(8)));
   }
+  frames.emplace_back("glass", make_test_frame(glass_spheres(true), 32, 32, grid_samples(8)));
   for (auto& [name, t] : frames)
     for (const char* grid : {"16", "1"}) {
       if (name != "spheres" && grid[0] == '1' && grid[1] == 0) continue;
-      const MethodResult off = t.run("gears", {{"group", "0"}, {"grid", grid}}, true);
+      const MethodResult off =
+          t.run("gears", {{"group", "0"}, {"hidden_cull", "false"}, {"grid", grid}}, true);
       for (const auto& opts : std::vector<std::map<std::string, std::string>>{
                {{"grid", grid}},  // defaults: groups of 8, long items of 4 × 32 samples
+               {{"grid", grid}, {"hidden_cull", "false"}},
                {{"grid", grid}, {"group", "3"}, {"long_chunk", "64"}, {"chunk", "5"}}}) {
         const MethodResult on = t.run("gears", opts, true);
-        expect_same_masks(off, on, name + " grid " + grid + " " + opts.rbegin()->first);
+        std::string what = name + " grid " + grid;
+        for (const auto& [key, value] : opts) what += " " + key + "=" + value;
+        expect_same_masks(off, on, what);
+        // Semi-opaque occluders: the transmittances too (V, not only the bits).
+        EXPECT_EQ(on.per_light[0].lit.pixels(), off.per_light[0].lit.pixels()) << what;
       }
     }
 }

@@ -44,7 +44,7 @@ struct Options {
   bool hidden_cull = true;
 };
 
-/// Cell lists longer than this get work items of 2 × `chunk` samples (see the items loop).
+/// Cell lists longer than this get work items of `long_chunk` × `chunk` samples (items loop).
 constexpr uint64_t kLongCellList = 2048;
 
 /// Per-thread buffers of the rasterization pass.
@@ -255,9 +255,10 @@ class Gears final : public ShadowMethod {
         sum_samples += pe - pb;
         tris_max = std::max<uint64_t>(tris_max, nt);
         samples_max = std::max<uint64_t>(samples_max, pe - pb);
-        // Long lists (dense models: cells holding thousands of triangles) get items of twice the
-        // samples: each item gathers its cell's depth-cut prefix once, and there the gather, not
-        // the per-pixel cull of the item's survivors, is what grows (elephant 512²: −20 % CPU).
+        // Long lists (dense models: cells holding thousands of triangles) get longer items: each
+        // item gathers its cell's depth-cut prefix once, and there the gather is what grows; the
+        // sample groups keep the per-pixel scans of a long item short (elephant 512²: ×2 −20 %
+        // CPU; ×4 with groups of 8 reads 1.99 M list entries instead of 3.37 M).
         const uint32_t step = nt > kLongCellList ? opt_.long_chunk * opt_.chunk : opt_.chunk;
         for (uint32_t b = pb; b < pe; b += step) items.push_back({c, b, std::min(pe, b + step)});
       }
@@ -404,7 +405,7 @@ class Gears final : public ShadowMethod {
                       l_volume += std::popcount(surv);
                       if (use_rows && any_blocked && opt_.hidden_cull) {
                         // Shadows wholly inside samples already blocked add nothing.
-                        const uint32_t hid = hidden_lanes(sc.lines.cells, surv, k, sc.rows);
+                        const uint32_t hid = hidden_lanes(sc.lines.cells, surv, sc.rows);
                         l_hidden += std::popcount(hid);
                         surv &= ~hid;
                       }

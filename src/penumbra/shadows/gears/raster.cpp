@@ -263,8 +263,7 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
       relative_vertices(from, first, px, py, pz, r);
       kept &=
           shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k, want_cells);
-      if (want_cells != nullptr)
-        kept &= ~lane_mask(hidden_lanes(cells, movemask(kept), box->grid_k, rows));
+      if (want_cells != nullptr) kept &= ~lane_mask(hidden_lanes(cells, movemask(kept), rows));
     }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
@@ -394,8 +393,7 @@ inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& v
 
 }  // namespace
 
-uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, int k, const uint32_t* rows) {
-  (void)k;  // the boxes are clamped to the grid already
+uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, const uint32_t* rows) {
   lanes &= cells.boxed;
   if (lanes == 0) return 0;
   vi i0, i1, j0, j1;

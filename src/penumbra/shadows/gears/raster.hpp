@@ -125,11 +125,11 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
                      Vec2 uv_hi, int grid_k, LineBatch& out);
 
 /// The lanes of `lanes` whose shadow box (ShadowCells) holds only samples already set in
-/// rows[0..k): rasterizing them could add no bit (on closed meshes, the back faces behind front
-/// faces rasterized before them), and a semi-opaque one would only darken samples already
-/// blocked, which shading ignores. Boxes over three rows tall are never hidden. `rows` must hold
-/// 32 entries (read as two registers).
-uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, int k, const uint32_t* rows);
+/// the pixel's rows (the boxes are clamped to its k × k grid): rasterizing them could add no bit
+/// (on closed meshes, the back faces behind front faces rasterized before them), and a semi-opaque
+/// one would only darken samples already blocked, which shading ignores. Boxes over three rows tall
+/// are never hidden. `rows` must hold 32 entries (read as two registers).
+uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, const uint32_t* rows);
 
 /// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32; `lines` set up with
 /// grid_k = k): row j's covered samples form one interval, one machine word per row. Writes the
