@@ -22,6 +22,7 @@ using test::ambiguous;
 using test::expect_equal_masks;
 using test::make_test_frame;
 using test::MaskAgreement;
+using test::round_light_scene;
 using test::TestFrame;
 
 LightSampleSpec pattern(SamplePattern p, int k) {
@@ -260,15 +261,9 @@ TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
   std::vector<std::pair<std::string, TestFrame>> frames;
   frames.emplace_back("spheres", make_test_frame("spheres", 32, 32, grid_samples(8)));
   frames.emplace_back("default", make_test_frame("default", 32, 32, grid_samples(8)));
-  for (LightShape shape : {LightShape::disk, LightShape::sphere}) {
-    Scene scene = make_builtin_scene("spheres");
-    Light& l = scene.lights[0];
-    l.shape = shape;
-    l.radius = 0.4f;
-    l.normal = Vec3(0, -1, 0);
+  for (LightShape shape : {LightShape::disk, LightShape::sphere})
     frames.emplace_back(shape == LightShape::disk ? "disk" : "sphere",
-                        make_test_frame(std::move(scene), 32, 32, grid_samples(8)));
-  }
+                        make_test_frame(round_light_scene(shape), 32, 32, grid_samples(8)));
   frames.emplace_back("glass", make_test_frame(glass_spheres(true), 32, 32, grid_samples(8)));
   for (auto& [name, t] : frames)
     for (const char* grid : {"16", "1"}) {
@@ -462,14 +457,9 @@ TEST(Gears, SemiOpaqueMemoryIsPerWorkItem) {
 }
 
 TEST(Gears, DiskAndSphereLightsMatchRaytrace) {
-  for (LightShape shape : {LightShape::disk, LightShape::sphere}) {
-    Scene scene = make_builtin_scene("spheres");
-    Light& l = scene.lights[0];
-    l.shape = shape;
-    l.radius = 0.4f;
-    l.normal = Vec3(0, -1, 0);
-    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid_samples(8))));
-  }
+  for (LightShape shape : {LightShape::disk, LightShape::sphere})
+    expect_equal_masks(
+        compare_masks(make_test_frame(round_light_scene(shape), 48, 48, grid_samples(8))));
 }
 
 /// A sphere light in the middle of a room: samples on the walls beside the light lie within its
