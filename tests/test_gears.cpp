@@ -22,6 +22,7 @@ using test::ambiguous;
 using test::expect_equal_masks;
 using test::make_test_frame;
 using test::MaskAgreement;
+using test::round_light_scene;
 using test::TestFrame;
 
 LightSampleSpec pattern(SamplePattern p, int k) {
@@ -88,7 +89,10 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"eye_distance", "0.1"}},
                                                        {{"eye_distance", "20"}},
                                                        {{"chunk", "1"}},
-                                                       {{"pixel_cull", "false"}}}) {
+                                                       {{"pixel_cull", "false"}},
+                                                       {{"group", "0"}},
+                                                       {{"hidden_cull", "false"}},
+                                                       {{"long_chunk", "1"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
   }
@@ -234,6 +238,171 @@ TEST(Gears, PixelCullIsConservative) {
   EXPECT_GT(near_plane, 1000);
 }
 
+/// Bit-for-bit equal per-sample masks of two runs (every pixel, every word).
+void expect_same_masks(const MethodResult& a, const MethodResult& b, const std::string& what) {
+  const SampleMasks& ma = *a.per_light[0].masks;
+  const SampleMasks& mb = *b.per_light[0].masks;
+  ASSERT_EQ(ma.width() * ma.height(), mb.width() * mb.height());
+  size_t differ = 0;
+  for (size_t i = 0; i < size_t(ma.width()) * ma.height(); ++i)
+    for (int w = 0; w < ma.words_per_pixel(); ++w) differ += ma.pixel(i)[w] != mb.pixel(i)[w];
+  EXPECT_EQ(differ, 0u) << what;
+}
+
+Scene glass_spheres(bool semi_opaque);  // below, with the semi-opaque tests
+
+/// The sample groups of a work item (option `group`), the longer items of long cell lists
+/// (`long_chunk`) and the hidden cull (`hidden_cull`) change which candidates each pixel's cull
+/// scans, sets up and rasterizes, never its masks: a rectangle, a disk and a sphere light (the
+/// last is not flat: one group per item), the default scene, semi-opaque spheres (V equal too),
+/// and a one-cell grid where every cell list is long and every cell spans the whole depth range
+/// (sphere tops and the ground behind them).
+TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
+  std::vector<std::pair<std::string, TestFrame>> frames;
+  frames.emplace_back("spheres", make_test_frame("spheres", 32, 32, grid_samples(8)));
+  frames.emplace_back("default", make_test_frame("default", 32, 32, grid_samples(8)));
+  for (LightShape shape : {LightShape::disk, LightShape::sphere})
+    frames.emplace_back(shape == LightShape::disk ? "disk" : "sphere",
+                        make_test_frame(round_light_scene(shape), 32, 32, grid_samples(8)));
+  frames.emplace_back("glass", make_test_frame(glass_spheres(true), 32, 32, grid_samples(8)));
+  for (auto& [name, t] : frames)
+    for (const char* grid : {"16", "1"}) {
+      if (name != "spheres" && grid[0] == '1' && grid[1] == 0) continue;
+      const MethodResult off =
+          t.run("gears", {{"group", "0"}, {"hidden_cull", "false"}, {"grid", grid}}, true);
+      for (const auto& opts : std::vector<std::map<std::string, std::string>>{
+               {{"grid", grid}},  // defaults: groups of 8, long items of 4 × 32 samples
+               {{"grid", grid}, {"hidden_cull", "false"}},
+               {{"grid", grid}, {"group", "3"}, {"long_chunk", "64"}, {"chunk", "5"}}}) {
+        const MethodResult on = t.run("gears", opts, true);
+        std::string what = name + " grid " + grid;
+        for (const auto& [key, value] : opts) what += " " + key + "=" + value;
+        expect_same_masks(off, on, what);
+        // Semi-opaque occluders: the transmittances too (V, not only the bits).
+        EXPECT_EQ(on.per_light[0].lit.pixels(), off.per_light[0].lit.pixels()) << what;
+      }
+    }
+}
+
+/// CandidateBatch::narrow with a group's bounds keeps, for every sample of the group, exactly
+/// the candidates keep() would keep from the whole item batch, in the same order: random
+/// triangles in front of a cluster of 32 samples split into groups of 8 (group_samples), with
+/// and without the shadow-box test.
+TEST(Gears, GroupCullKeepsWhatEachPixelKeeps) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), unit(0.0f, 1.0f);
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  gears::GridCamera cam;
+  size_t item_kept = 0, group_kept = 0, pixel_kept = 0, groups = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    gears::TriangleSoup soup;
+    for (int t = 0; t < 600; ++t) {
+      DVec3 v[3];
+      const gears::TriangleSoup one = random_triangle(rng, xy, tz, v);
+      // Small triangles, like a dense mesh's: shrunk towards their first vertex.
+      const float shrink = 0.02f + 0.3f * unit(rng);
+      soup.mesh.push_back(0), soup.prim.push_back(t), soup.opaque.push_back(1);
+      for (int c = 0; c < 3; ++c) {
+        soup.x[c].push_back(one.x[0][0] + shrink * (one.x[c][0] - one.x[0][0]));
+        soup.y[c].push_back(one.y[0][0] + shrink * (one.y[c][0] - one.y[0][0]));
+        soup.z[c].push_back(one.z[0][0] + shrink * (one.z[c][0] - one.z[0][0]));
+      }
+    }
+    std::vector<float> zmin(soup.size());
+    for (size_t t = 0; t < soup.size(); ++t)
+      zmin[t] = std::min({soup.z[0][t], soup.z[1][t], soup.z[2][t]});
+    const auto packed = gears::pack_triangles(soup, +1, zmin, light);
+    const auto planes = gears::triangle_planes(soup, gears::plane_test_corners(light, cam));
+    // The cell list: every triangle, in (zmin, id) order as assign_triangles writes it.
+    std::vector<gears::CellPair> list(soup.size());
+    for (size_t t = 0; t < soup.size(); ++t) list[t] = {0, uint32_t(t)};
+    std::sort(list.begin(), list.end(), [&](auto a, auto b) {
+      return zmin[a.item] < zmin[b.item] || (zmin[a.item] == zmin[b.item] && a.item < b.item);
+    });
+    const Vec3 centre(xy(rng), xy(rng), 2.0f + 2.0f * unit(rng));
+    std::vector<float> px(32), py(32), pz(32);
+    for (int i = 0; i < 32; ++i)
+      px[i] = centre.x + 1.5f * unit(rng), py[i] = centre.y + 1.5f * unit(rng),
+      pz[i] = centre.z + 0.2f * unit(rng);
+    gears::CandidateBatch item, group, a, b;
+    item.gather(packed.data(), planes.data(), list.data(), list.data() + list.size(),
+                gears::item_bounds(light, px.data(), py.data(), pz.data(), 32));
+    item_kept += item.count;
+    std::vector<int> order, ends;
+    gears::group_samples(light, px.data(), py.data(), pz.data(), 32, 8, order, ends);
+    ASSERT_EQ(ends.size(), 4u);
+    for (size_t g = 0, g0 = 0; g < ends.size(); g0 = ends[g++]) {
+      float gx[8], gy[8], gz[8];
+      const int gm = ends[g] - int(g0);
+      ASSERT_LE(gm, 8);
+      for (int j = 0; j < gm; ++j)
+        gx[j] = px[order[g0 + j]], gy[j] = py[order[g0 + j]], gz[j] = pz[order[g0 + j]];
+      group.narrow(item, gears::item_bounds(light, gx, gy, gz, gm));
+      group_kept += group.count, ++groups;
+      for (int j = 0; j < gm; ++j) {
+        const Vec3 p(gx[j], gy[j], gz[j]);
+        const gears::ItemBounds own = gears::item_bounds(light, &p.x, &p.y, &p.z, 1);
+        const gears::ShadowBoxCull box{Vec2(0.0f), Vec2(1.0f), 16};
+        for (const gears::ShadowBoxCull* bc :
+             {static_cast<const gears::ShadowBoxCull*>(nullptr), &box}) {
+          a.keep(item, 0, item.depth_prefix(own.zmax), own, p, bc);
+          b.keep(group, 0, group.depth_prefix(own.zmax), own, p, bc);
+          ASSERT_EQ(a.count, b.count) << "trial " << trial;
+          for (int i = 0; i < a.count; ++i) ASSERT_EQ(a.tri[i], b.tri[i]) << "trial " << trial;
+          pixel_kept += bc ? 0 : a.count;
+        }
+      }
+    }
+  }
+  std::printf("per item %.0f candidates, per group %.0f, per pixel %.0f\n", double(item_kept) / 40,
+              double(group_kept) / groups, double(pixel_kept) / (40 * 32));
+  // The groups must cull: measured 106 → 73 → 53 per item, group, pixel.
+  EXPECT_LT(double(group_kept) / groups, 0.8 * double(item_kept) / 40);
+}
+
+/// group_samples: a permutation into groups of at most the size asked for, compact in the slab
+/// coordinates; one group in the given order when the light is not flat or a sample is on the
+/// light plane.
+TEST(Gears, SampleGroupsAreCompactInSlabCoordinates) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  std::vector<float> x(100), y(100), z(100);
+  for (int i = 0; i < 100; ++i) x[i] = unit(rng), y[i] = unit(rng), z[i] = 1.0f + 0.1f * unit(rng);
+  std::vector<int> order, ends;
+  gears::group_samples(light, x.data(), y.data(), z.data(), 100, 8, order, ends);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int i = 0; i < 100; ++i) ASSERT_EQ(sorted[i], i);
+  ASSERT_EQ(ends.back(), 100);
+  double area = 0.0;
+  for (size_t g = 0, g0 = 0; g < ends.size(); g0 = ends[g++]) {
+    ASSERT_LE(ends[g] - int(g0), 8);
+    ASSERT_GT(ends[g], int(g0));
+    float lo[2] = {1e9f, 1e9f}, hi[2] = {-1e9f, -1e9f};
+    for (size_t j = g0; j < size_t(ends[g]); ++j) {
+      const int i = order[j];
+      const float k[2] = {x[i] / z[i], y[i] / z[i]};
+      for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], k[a]), hi[a] = std::max(hi[a], k[a]);
+    }
+    area += (hi[0] - lo[0]) * (hi[1] - lo[1]);
+  }
+  // 16 groups of a k-d split of 100 uniform points: their boxes cover about one unit square in
+  // all (measured 0.53); groups in input order would each span nearly the whole square (≈ 16).
+  std::printf("groups %zu, total box area %.3f\n", ends.size(), area);
+  EXPECT_EQ(ends.size(), 16u);
+  EXPECT_LT(area, 1.0);
+  gears::FlatLight round;  // not flat: one group
+  gears::group_samples(round, x.data(), y.data(), z.data(), 100, 8, order, ends);
+  EXPECT_EQ(ends, std::vector<int>{100});
+  z[7] = 0.0f;  // a sample on the light plane: no slabs
+  gears::group_samples(light, x.data(), y.data(), z.data(), 100, 8, order, ends);
+  EXPECT_EQ(ends, std::vector<int>{100});
+  EXPECT_EQ(order[7], 7);
+}
+
 /// The point-light limit: one bit per pixel, the hard shadow of `raytrace` (irregular z-buffer).
 TEST(Gears, PointLightGivesTheHardShadow) {
   Scene scene = make_builtin_scene("spheres");
@@ -288,14 +457,9 @@ TEST(Gears, SemiOpaqueMemoryIsPerWorkItem) {
 }
 
 TEST(Gears, DiskAndSphereLightsMatchRaytrace) {
-  for (LightShape shape : {LightShape::disk, LightShape::sphere}) {
-    Scene scene = make_builtin_scene("spheres");
-    Light& l = scene.lights[0];
-    l.shape = shape;
-    l.radius = 0.4f;
-    l.normal = Vec3(0, -1, 0);
-    expect_equal_masks(compare_masks(make_test_frame(std::move(scene), 48, 48, grid_samples(8))));
-  }
+  for (LightShape shape : {LightShape::disk, LightShape::sphere})
+    expect_equal_masks(
+        compare_masks(make_test_frame(round_light_scene(shape), 48, 48, grid_samples(8))));
 }
 
 /// A sphere light in the middle of a room: samples on the walls beside the light lie within its
@@ -392,13 +556,31 @@ TEST(Gears, ReportsThePaperStatistics) {
 // never fewer than it sets up.
 TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
   const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
-  const Visibility v = t.run("gears").per_light[0];
+  const Visibility v = t.run("gears", {{"group", "0"}}).per_light[0];
   const double item = v.counters.at("assignments_item");
   const double scanned = v.counters.at("pixel_cull_reads");
   std::printf("item candidates %.0f, scanned per pixel %.0f (%.3f), set up %.0f\n", item, scanned,
               scanned / item, v.counters.at("assignments_total"));
   EXPECT_LE(scanned, 0.95 * item);  // measured 0.911
   EXPECT_GE(scanned, v.counters.at("assignments_total"));
+}
+
+/// The groups' own cull halves what the per-pixel culls scan on a frame (spheres 64², k 16, grid
+/// 16 so that cells hold dozens of samples; measured 0.47), and sets up the same candidates up to
+/// the early exits' chunking.
+TEST(Gears, SampleGroupsCutThePerPixelScan) {
+  const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
+  const Visibility off =
+      t.run("gears", {{"group", "0"}, {"grid", "16"}, {"hidden_cull", "false"}}).per_light[0];
+  const Visibility on = t.run("gears", {{"grid", "16"}, {"hidden_cull", "false"}}).per_light[0];
+  const double ratio = on.counters.at("pixel_cull_reads") / off.counters.at("pixel_cull_reads");
+  std::printf("per-pixel scan with groups / without: %.3f; group candidates %.0f of %.0f\n", ratio,
+              on.counters.at("assignments_group"), on.counters.at("assignments_item"));
+  EXPECT_LT(ratio, 0.55);
+  EXPECT_LT(on.counters.at("assignments_group"), on.counters.at("assignments_item"));
+  EXPECT_EQ(off.counters.at("assignments_group"), off.counters.at("assignments_item"));
+  EXPECT_NEAR(on.counters.at("assignments_in_volume"), off.counters.at("assignments_in_volume"),
+              1e-3 * off.counters.at("assignments_in_volume"));
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ namespace penumbra {
 namespace {
 
 using test::make_test_frame;
+using test::round_light_scene;
 
 using test::grid_samples;
 
@@ -47,15 +48,6 @@ TEST(VulkanGears, MasksEqualCpuAndRaytraceOnSpheres) {
 TEST(VulkanGears, MasksEqualCpuAndRaytraceOnFenceWithAlpha) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   check_frame(backend, make_test_frame("fence", 64, 64, grid_samples(16)), "fence");
-}
-
-Scene round_light_scene(LightShape shape) {
-  Scene scene = make_builtin_scene("spheres");
-  Light& l = scene.lights[0];
-  l.shape = shape;
-  l.radius = 0.4f;
-  l.normal = Vec3(0, -1, 0);
-  return scene;
 }
 
 TEST(VulkanGears, DiskLight) {

@@ -27,6 +27,16 @@ struct TestFrame {
   }
 };
 
+/// The spheres scene under a round light (disk or sphere, radius 0.4, facing down).
+inline Scene round_light_scene(LightShape shape) {
+  Scene scene = make_builtin_scene("spheres");
+  Light& l = scene.lights[0];
+  l.shape = shape;
+  l.radius = 0.4f;
+  l.normal = Vec3(0, -1, 0);
+  return scene;
+}
+
 /// Does the segment o → o + d (parameter in (0, 1]) cross triangle abc? Möller–Trumbore in double
 /// precision: the brute-force oracle tests use, independent of every BVH. Optionally returns the
 /// hit's barycentrics (Embree's convention: p = (1−u−v) a + u b + v c).

@@ -92,6 +92,50 @@ ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, c
   return b;
 }
 
+void group_samples(const FlatLight& light, const float* x, const float* y, const float* z,
+                   int count, int group_size, std::vector<int>& order, std::vector<int>& ends) {
+  order.resize(count);
+  for (int i = 0; i < count; ++i) order[i] = i;
+  ends.clear();
+  bool slabs = light.flat && group_size > 0;
+  for (int i = 0; i < count && slabs; ++i) slabs = z[i] > 0.0f;
+  if (!slabs || count <= group_size) {
+    ends.push_back(count);
+    return;
+  }
+  // The slab coordinates, once per sample (the splits compare them many times).
+  thread_local std::vector<float> keys;
+  keys.resize(2 * static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i)
+    keys[2 * i] = (x[i] - light.lx0) / z[i], keys[2 * i + 1] = (y[i] - light.ly0) / z[i];
+  auto key = [&](int i, int axis) { return keys[2 * i + axis]; };
+  // Depth-first over [begin, end) ranges of `order`, so the groups come out in order.
+  struct Range {
+    int begin, end;
+  };
+  Range stack[64];
+  int top = 0;
+  stack[top++] = {0, count};
+  while (top > 0) {
+    const Range r = stack[--top];
+    if (r.end - r.begin <= group_size) {
+      ends.push_back(r.end);
+      continue;
+    }
+    float lo[2] = {kInfinity, kInfinity}, hi[2] = {-kInfinity, -kInfinity};
+    for (int j = r.begin; j < r.end; ++j)
+      for (int axis = 0; axis < 2; ++axis)
+        lo[axis] = std::min(lo[axis], key(order[j], axis)),
+        hi[axis] = std::max(hi[axis], key(order[j], axis));
+    const int axis = hi[0] - lo[0] >= hi[1] - lo[1] ? 0 : 1;
+    const int mid = r.begin + (r.end - r.begin) / 2;
+    std::nth_element(order.begin() + r.begin, order.begin() + mid, order.begin() + r.end,
+                     [&](int a, int b) { return key(a, axis) < key(b, axis); });
+    stack[top++] = {mid, r.end};  // popped second
+    stack[top++] = {r.begin, mid};
+  }
+}
+
 std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& camera) {
   if (!light.flat) return camera.light_corners;
   return {Vec3(light.lx0, light.ly0, 0.0f), Vec3(light.lx1, light.ly0, 0.0f),

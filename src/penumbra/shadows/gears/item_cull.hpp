@@ -86,6 +86,14 @@ std::vector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
                                            const std::vector<Vec3>& light_corners);
 /// The corners the plane test bounds the light points by: the flat light's (sample) box at z = 0,
 /// or the camera's light corners (a sphere's cube, a point).
+/// Splits the samples (x[i], y[i], z[i]), i < count, of one work item into groups of at most
+/// `group_size` that lie close together in the slab coordinates ((x − lx0)/z, (y − ly0)/z): a k-d
+/// split at the median of the wider coordinate. `order` receives a permutation of 0 … count − 1,
+/// `ends` the end of each group in it. A light that is not flat, or a sample on the light plane,
+/// gives one group in the given order (the slabs then cull nothing).
+void group_samples(const FlatLight& light, const float* x, const float* y, const float* z,
+                   int count, int group_size, std::vector<int>& order, std::vector<int>& ends);
+
 std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& camera);
 
 inline bool may_block(const PackedTriangle& t, const ItemBounds& b) {

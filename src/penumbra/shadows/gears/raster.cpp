@@ -58,6 +58,12 @@ inline uint32_t movemask(vi m) {
 #endif
 }
 
+/// Bit l of `bits` as lane l of a comparison-style vector (−1 or 0).
+inline vi lane_mask(uint32_t bits) {
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  return ((vi{} + static_cast<int32_t>(bits)) >> lane_index & 1) != 0;
+}
+
 /// floor(y) for y ≥ −40 (after clamping), as exact integers in a float-free vector.
 inline vi floor_small(vf y) {
   return __builtin_convertvector(y + 64.0f, vi) - 64;
@@ -77,7 +83,7 @@ inline void relative_vertices(const CandidateBatch& batch, int first, vf px, vf 
 /// centre. False only where that fails; lanes not between pass. Shared by setup_batch and the
 /// per-pixel cull (CandidateBatch::keep), which must compute bit-identical decisions.
 inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_lo, Vec2 uv_hi,
-                                   int grid_k) {
+                                   int grid_k, ShadowCells* cells = nullptr) {
   const vf ax = r[0], ay = r[1], az = r[2], bx = r[3], by = r[4], bz = r[5], cx = r[6], cy = r[7],
            cz = r[8];
   const vi between =
@@ -103,8 +109,16 @@ inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_
     const vi i0 = first_centre(u0), i1 = last_centre(u1);
     const vi j0 = first_centre(v0), j1 = last_centre(v1);
     const vi top = vi{} + (grid_k - 1), zero = vi{} + 0;
-    overlap &= ((i0 > zero ? i0 : zero) <= (i1 < top ? i1 : top)) &
-               ((j0 > zero ? j0 : zero) <= (j1 < top ? j1 : top));
+    const vi ci0 = i0 > zero ? i0 : zero, ci1 = i1 < top ? i1 : top;
+    const vi cj0 = j0 > zero ? j0 : zero, cj1 = j1 < top ? j1 : top;
+    overlap &= (ci0 <= ci1) & (cj0 <= cj1);
+    if (cells != nullptr) {
+      std::memcpy(cells->box[0], &ci0, sizeof(ci0));
+      std::memcpy(cells->box[1], &ci1, sizeof(ci1));
+      std::memcpy(cells->box[2], &cj0, sizeof(cj0));
+      std::memcpy(cells->box[3], &cj1, sizeof(cj1));
+      cells->boxed = movemask(between & overlap);
+    }
   }
   return overlap | ~between;
 }
@@ -167,8 +181,62 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
   pad();
 }
 
+namespace {
+
+/// Lanes `m` of src[first, first + 16) to to[at...], in order (4-byte elements: floats, ids,
+/// flags).
+template <class T>
+inline void compress_lanes(T* to, int at, const T* src, int first, uint32_t m) {
+#if defined(__AVX512F__)
+  // Compress in a register, then one full store (the buffers have 2 × 16 spare lanes; later lanes
+  // overwrite the tail): the masked compress-store to memory is several times slower.
+  _mm512_storeu_si512(to + at, _mm512_maskz_compress_epi32(static_cast<__mmask16>(m),
+                                                           _mm512_loadu_si512(src + first)));
+#else
+  for (uint32_t l = m; l; l &= l - 1) to[at++] = src[first + std::countr_zero(l)];
+#endif
+}
+
+}  // namespace
+
+void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group) {
+  const int end = from.depth_prefix(group.zmax);
+  reserve(static_cast<size_t>(end) + 2 * kLanes);
+  count = 0;
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  for (int first = 0; first < end; first += kLanes) {
+    const vi kept = (lane_index + first < end) & (splat(group.ix0) <= load(&from.hx0[first])) &
+                    (splat(group.ix1) >= load(&from.hx1[first])) &
+                    (splat(group.iy0) <= load(&from.hy0[first])) &
+                    (splat(group.iy1) >= load(&from.hy1[first]));
+    const uint32_t m = movemask(kept);
+    if (m == 0) continue;
+    for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
+    for (auto [to, src] : {std::pair{&zmin, &from.zmin},
+                           {&hx0, &from.hx0},
+                           {&hx1, &from.hx1},
+                           {&hy0, &from.hy0},
+                           {&hy1, &from.hy1},
+                           {&nx, &from.nx},
+                           {&ny, &from.ny},
+                           {&nz, &from.nz},
+                           {&nd, &from.nd},
+                           {&n1, &from.n1},
+                           {&lmin, &from.lmin},
+                           {&lmax, &from.lmax}})
+      compress_lanes(to->data(), count, src->data(), first, m);
+    compress_lanes(tri.data(), count, from.tri.data(), first, m);
+    compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
+    count += std::popcount(m);
+  }
+  read = end;
+  pad();
+}
+
 void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
-                          const Vec3& p, const ShadowBoxCull* box) {
+                          const Vec3& p, const ShadowBoxCull* box, const uint32_t* rows) {
+  ShadowCells cells;
+  ShadowCells* want_cells = rows != nullptr && box != nullptr && box->grid_k > 0 ? &cells : nullptr;
   reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
   count = 0;
   const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
@@ -193,25 +261,15 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
       // same triangles, only before their edge planes are built (dense meshes: most of them).
       vf r[9];
       relative_vertices(from, first, px, py, pz, r);
-      kept &= shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k);
+      kept &=
+          shadow_box_holds_samples(r, px, py, pz, box->uv_lo, box->uv_hi, box->grid_k, want_cells);
+      if (want_cells != nullptr) kept &= ~lane_mask(hidden_lanes(cells, movemask(kept), rows));
     }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
-    // Lanes m of src[first..] to to[count..], in order (4-byte elements: floats, ids, flags).
-    auto move = [&](auto& to, const auto& src) {
-#if defined(__AVX512F__)
-      // Compress in a register, then one full store (the buffer has 2 × 16 spare lanes; later
-      // lanes overwrite the tail): the masked compress-store to memory is several times slower.
-      _mm512_storeu_si512(&to[count], _mm512_maskz_compress_epi32(static_cast<__mmask16>(m),
-                                                                  _mm512_loadu_si512(&src[first])));
-#else
-      int o = count;
-      for (uint32_t l = m; l; l &= l - 1) to[o++] = src[first + std::countr_zero(l)];
-#endif
-    };
-    for (int c = 0; c < 9; ++c) move(v[c], from.v[c]);
-    move(tri, from.tri);
-    move(opaque, from.opaque);
+    for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
+    compress_lanes(tri.data(), count, from.tri.data(), first, m);
+    compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
     count += std::popcount(m);
   }
   pad_setup();
@@ -281,7 +339,9 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
     store(out.b[m], B[m]);
     store(out.c[m], C[m]);
   }
-  if (light.axis_aligned) ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k);
+  out.cells.boxed = 0;
+  if (light.axis_aligned)
+    ok &= shadow_box_holds_samples(r, px, py, pz, uv_lo, uv_hi, grid_k, &out.cells);
   const int live = std::min(kLanes, batch.count - first);
   const uint32_t result = movemask(ok) & ((live >= 32 ? ~0u : (1u << live) - 1u));
   if (grid_k > 0 && result != 0) {
@@ -332,6 +392,45 @@ inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& v
 }
 
 }  // namespace
+
+uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, const uint32_t* rows) {
+  lanes &= cells.boxed;
+  if (lanes == 0) return 0;
+  vi i0, i1, j0, j1;
+  std::memcpy(&i0, cells.box[0], sizeof(i0));
+  std::memcpy(&i1, cells.box[1], sizeof(i1));
+  std::memcpy(&j0, cells.box[2], sizeof(j0));
+  std::memcpy(&j1, cells.box[3], sizeof(j1));
+  // Bits i0 … i1 of a row (i1 ≤ 31: 2 << 31 wraps to 0, as in span_rows).
+  const vu need = ((vu{} + 2u) << __builtin_convertvector(i1, vu)) -
+                  ((vu{} + 1u) << __builtin_convertvector(i0, vu));
+  // Shadows of dense meshes span a row or two: rows j0, j0 + 1 and j1 cover boxes of up to three
+  // rows, read 16 lanes at once; taller boxes are never called hidden (they are rasterized).
+  const vi j_mid = j0 + 1 < j1 ? j0 + 1 : j1;
+  // Rows by a two-register permute (k ≤ 32 rows: callers' arrays hold 32): gathers are several
+  // times slower on this hardware and took a quarter of keep()'s time.
+#if defined(__AVX512F__)
+  __m512i rows_lo, rows_hi;
+  std::memcpy(&rows_lo, rows, sizeof(rows_lo));
+  std::memcpy(&rows_hi, rows + kLanes, sizeof(rows_hi));
+#endif
+  auto row_of = [&](vi j) {
+    vu r;
+#if defined(__AVX512F__)
+    __m512i idx;
+    std::memcpy(&idx, &j, sizeof(idx));
+    const __m512i g = _mm512_permutex2var_epi32(rows_lo, idx, rows_hi);
+    std::memcpy(&r, &g, sizeof(r));
+#else
+    r = vu{};
+    for (uint32_t l = lanes; l; l &= l - 1) r[std::countr_zero(l)] = rows[j[std::countr_zero(l)]];
+#endif
+    return r;
+  };
+  const vu blocked = row_of(j0) & row_of(j_mid) & row_of(j1);
+  const vi hidden = ((blocked & need) == need) & (j1 - j0 <= 2);
+  return movemask(hidden) & lanes;
+}
 
 uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
   uint32_t any = 0;

@@ -48,8 +48,16 @@ struct CandidateBatch {
   /// surface cut it.)
   /// `box` (axis-aligned pixel lights only): also setup_batch's shadow-box test, with the same
   /// arithmetic, so the set-up survivors (and so the masks) do not change.
+  /// `rows` (with `box`, grid samples): the pixel's mask so far; candidates whose shadow box holds
+  /// only samples already blocked there are dropped too (hidden_lanes).
   void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p,
-            const ShadowBoxCull* box = nullptr);
+            const ShadowBoxCull* box = nullptr, const uint32_t* rows = nullptr);
+  /// The candidates of an item batch `from` that pass may_block() for `group` (the ItemBounds of
+  /// some of the item's samples: depth cut and edge-angle slabs), in the same order, with every
+  /// array (a batch keep() can cull from). Each sample's own slab test implies its group's (the
+  /// bounds are min/max of the same float expressions), so keep() on this batch kept exactly what
+  /// it kept on `from`.
+  void narrow(const CandidateBatch& from, const ItemBounds& group);
   /// End of the prefix of an item batch whose triangles pass the depth cut `zmin <= zmax`: the
   /// gather keeps its cell list's (zmin, id) order, so a pixel's depth cut is a prefix too, and
   /// keep() need not scan beyond it (it would reject every lane there).
@@ -70,6 +78,16 @@ struct CandidateBatch {
   size_t reserved_ = 0;  // every array above holds at least this many elements
   void pad();
   void pad_setup();
+};
+
+/// The sample cells of 16 lanes' shadow boxes (setup_batch or keep() with a grid): columns
+/// box[0] … box[1], rows box[2] … box[3], clamped to the grid; valid for the lanes in `boxed`
+/// (all three vertices between the light and the pixel, where the shadow is the triangle of the
+/// vertices' projections). Every sample such a lane covers lies in its box (the box is widened
+/// beyond the projections' rounding, as for the shadow-box test that rejects a lane).
+struct ShadowCells {
+  alignas(64) int32_t box[4][kLanes];
+  uint32_t boxed = 0;
 };
 
 /// One pixel's light, in light space: light point X(u, v) = p + w + u·eu + v·ev.
@@ -94,6 +112,7 @@ struct LineBatch {
   alignas(64) float inv[4][kLanes];  // −1/b[m], 0 where b[m] = 0
   alignas(64) float lo_off[4][kLanes];
   alignas(64) float hi_off[4][kLanes];
+  ShadowCells cells;  // setup_batch with grid_k > 0
 };
 
 /// Batched setup of candidates [first, first+16) (SIMD across triangles: the per-triangle setup
@@ -104,6 +123,13 @@ struct LineBatch {
 /// shadow's bounding box holds no sample centre is rejected too.
 uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& light, Vec2 uv_lo,
                      Vec2 uv_hi, int grid_k, LineBatch& out);
+
+/// The lanes of `lanes` whose shadow box (ShadowCells) holds only samples already set in
+/// the pixel's rows (the boxes are clamped to its k × k grid): rasterizing them could add no bit
+/// (on closed meshes, the back faces behind front faces rasterized before them), and a semi-opaque
+/// one would only darken samples already blocked, which shading ignores. Boxes over three rows tall
+/// are never hidden. `rows` must hold 32 entries (read as two registers).
+uint32_t hidden_lanes(const ShadowCells& cells, uint32_t lanes, const uint32_t* rows);
 
 /// Row-span rasterization onto the regular k×k grid of cell centres (k ≤ 32; `lines` set up with
 /// grid_k = k): row j's covered samples form one interval, one machine word per row. Writes the
