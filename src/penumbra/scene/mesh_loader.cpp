@@ -125,10 +125,21 @@ std::string read_file(const std::filesystem::path& path) {
   require_regular_file(path, "cannot load mesh");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  // One read of the whole file (a stringstream would grow and copy it several times).
+  std::string text;
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size < std::numeric_limits<size_t>::max() / 2) {
+    text.resize(static_cast<size_t>(size));
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+  }
+  // Whatever the size query missed (a file growing while read) is appended.
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0)
+    text.append(chunk, static_cast<size_t>(in.gcount()));
   if (in.bad()) fail(path, "cannot read the file");
-  return std::move(text).str();
+  return text;
 }
 
 std::string lowercase_extension(const std::filesystem::path& path) {
