@@ -1,5 +1,7 @@
 #include "penumbra/render/gbuffer.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/render/embree_scene.hpp"
@@ -12,14 +14,16 @@ GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
   GBuffer g;
   g.width = camera.width;
   g.height = camera.height;
-  g.world_pos = Image<Vec3>(g.width, g.height, Vec3(0.0f));
-  g.geo_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f));
-  g.shading_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f));
-  g.depth = Image<float>(g.width, g.height, kInfinity);
-  g.mesh_id = Image<int32_t>(g.width, g.height, -1);
-  g.prim_id = Image<int32_t>(g.width, g.height, -1);
-  g.uv = Image<Vec2>(g.width, g.height, Vec2(0.0f));
-  g.ray_offset = Image<float>(g.width, g.height, 0.0f);
+  // 64 bytes a pixel, first touched here (page faults and the fill: ≈ 15 ms serial at 1024²), so
+  // the eight layers are allocated side by side.
+  tbb::parallel_invoke([&] { g.world_pos = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
+                       [&] { g.geo_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
+                       [&] { g.shading_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
+                       [&] { g.depth = Image<float>(g.width, g.height, kInfinity); },
+                       [&] { g.mesh_id = Image<int32_t>(g.width, g.height, -1); },
+                       [&] { g.prim_id = Image<int32_t>(g.width, g.height, -1); },
+                       [&] { g.uv = Image<Vec2>(g.width, g.height, Vec2(0.0f)); },
+                       [&] { g.ray_offset = Image<float>(g.width, g.height, 0.0f); });
 
   const Camera::RayBasis rays = camera.ray_basis();
   // Primary rays in 4×4 pixel packets (rtcIntersect16): coherent rays share the traversal, about

@@ -19,6 +19,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/scene/mesh_header.hpp"
+#include "penumbra/scene/off_reader.hpp"
 
 namespace penumbra {
 
@@ -151,17 +152,30 @@ std::string lowercase_extension(const std::filesystem::path& path) {
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
-  // OFF, PLY and OBJ are validated in full before assimp sees them (mesh_header.hpp).
+  // OFF, PLY and OBJ are validated in full before assimp sees them (mesh_header.hpp); a plain
+  // OFF file is then read directly, to the same mesh (off_reader.hpp).
   std::optional<MeshFileCounts> counts;
   try {
-    counts = validate_mesh_file(read_file(path), lowercase_extension(path));
+    const std::string bytes = read_file(path);
+    const std::string extension = lowercase_extension(path);
+    counts = validate_mesh_file(bytes, extension);
+    if (extension == ".off" && counts)
+      if (std::optional<Mesh> mesh = read_plain_off(bytes, path.stem().string())) {
+        if (mesh->triangles.size() != counts->triangles)
+          fail(path, "internal: the OFF reader disagrees with the validation");
+        return std::move(*mesh);
+      }
   } catch (const Error& e) {
     if (std::string_view(e.what()).rfind("cannot load mesh", 0) == 0) throw;
     fail(path, e.what());
   } catch (const std::bad_alloc&) {
     fail(path, "out of memory reading the file");
   }
+  return import_mesh_file(path, counts);
+}
 
+Mesh import_mesh_file(const std::filesystem::path& path,
+                      const std::optional<MeshFileCounts>& counts) {
   try {
     Assimp::Importer importer;
     // Drop point and line primitives entirely (SortByPType then leaves triangle meshes only).
