@@ -12,8 +12,8 @@ namespace penumbra {
 /// Loads every mesh of the file merged into one triangle mesh (node transforms applied;
 /// polygons triangulated; vertices joined by position). Keeps normals and the first UV channel
 /// when present. Throws Error with assimp's reason for a missing, unreadable or empty file.
-/// OFF, PLY and OBJ files are validated first (mesh_header.hpp); a plain OFF file (off_reader.hpp)
-/// is then read directly, every other file through import_mesh_file.
+/// A plain OFF file (off_reader.hpp) is read directly; OFF, PLY and OBJ files are otherwise
+/// validated (mesh_header.hpp), then every file goes through import_mesh_file.
 Mesh load_mesh_file(const std::filesystem::path& path);
 
 /// load_mesh_file's assimp import, for a file validated to `counts` (std::nullopt: not counted):

@@ -135,7 +135,9 @@ std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& na
   size_t pos = 0;
   uint64_t nv = 0, nf = 0;
   if (!read_header(bytes, pos, nv, nf)) return std::nullopt;
-  if (nv > std::numeric_limits<uint32_t>::max() || nf > bytes.size()) return std::nullopt;
+  // A vertex line takes at least 6 bytes ("0 0 0\n"), a face line 8: a larger count is a lying
+  // header, left to the validation's message before anything is allocated.
+  if (nv > (bytes.size() - pos) / 6 || nf > (bytes.size() - pos) / 8) return std::nullopt;
 
   std::vector<Vec3> file_positions(nv);
   std::string_view line;
