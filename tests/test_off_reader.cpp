@@ -143,11 +143,11 @@ TEST_F(OffReaderTest, FilesOutsideTheSubsetGoToAssimp) {
            "OFF\n3 1 0\n0 0 0\n0.0000000000001 0 0\n0 1 0\n" + tri,      // below 1e-12
            // And what the validation refuses: an index past the vertices, a missing face, a
            // header counting more vertices than the file holds, a huge coordinate.
-           "OFF\n3 1 0\n" + three + "3 0 1 3\n",
-           "OFF\n3 2 0\n" + three + tri,
+           "OFF\n3 1 0\n" + three + "3 0 1 3\n", "OFF\n3 2 0\n" + three + tri,
            "OFF\n4 1 0\n" + three + tri,
            "OFF\n4000000000 1 0\n" + three + tri,  // refused before allocating 48 GB
            "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n" + tri,
+           "OFF\n3 1 0\n0 0 0\n1e-999 0 0\n0 1 0\n" + tri,  // the validation refuses it
        }) {
     SCOPED_TRACE(text);
     EXPECT_FALSE(read_plain_off(text, "x"));

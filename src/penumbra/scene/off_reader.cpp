@@ -81,7 +81,9 @@ bool read_coordinate(std::string_view s, size_t& c, float& out) {
     ++c;
     const bool negative_exponent = c < s.size() && s[c] == '-';
     if (c < s.size() && (s[c] == '-' || s[c] == '+')) ++c;
-    if (!read_digits(s, c, 19, digits_value, digits) || digits == 19) return false;
+    // Beyond 10^±30 the validation's double reading could overflow or underflow where powf
+    // gives inf or 0: such files keep its verdict.
+    if (!read_digits(s, c, 19, digits_value, digits) || digits_value > 30) return false;
     const float exponent = static_cast<float>(digits_value);
     value *= std::pow(10.0f, negative_exponent ? -exponent : exponent);
   }
