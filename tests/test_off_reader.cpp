@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -155,6 +156,43 @@ TEST_F(OffReaderTest, FilesOutsideTheSubsetGoToAssimp) {
   // A quad file still loads, through assimp.
   const fs::path quad = write("quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
   EXPECT_EQ(load_mesh_file(quad).triangles.size(), 2u);
+}
+
+/// 400 one-character mutations of a small plain file: whenever the direct reader accepts one, the
+/// validation must accept it too and assimp must read the same mesh.
+TEST_F(OffReaderTest, MutatedFilesAgreeWithTheValidationAndAssimp) {
+  const std::string base =
+      "OFF\n5 3 0\n0.5 -1.25 3\n-0 2.000001 1e-3\n4 4.5 -0.75\n1 0 0\n0 1 0\n"
+      "3 0 1 2\n3 2 3 4\n3 4 0 1\n";
+  const std::string alphabet = " 0123456789.-+eE\n#x";
+  uint32_t state = 2024;
+  const auto next = [&](uint32_t n) {
+    state = state * 1664525u + 1013904223u;
+    return (state >> 8) % n;
+  };
+  int accepted = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::string text = base;
+    const size_t at = next(static_cast<uint32_t>(text.size()));
+    const char c = alphabet[next(static_cast<uint32_t>(alphabet.size()))];
+    switch (next(3)) {
+      case 0:
+        text[at] = c;
+        break;
+      case 1:
+        text.insert(text.begin() + static_cast<long>(at), c);
+        break;
+      default:
+        text.erase(at, 1);
+    }
+    if (!read_plain_off(text, "m")) continue;
+    ++accepted;
+    SCOPED_TRACE(text);
+    const fs::path path = write("m.off", text);
+    EXPECT_NO_THROW(validate_mesh_file(text, ".off"));
+    expect_same_as_assimp(path);
+  }
+  EXPECT_GT(accepted, 40);  // the mutations that keep a plain file (digits for digits, ...)
 }
 
 }  // namespace
