@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config clang-format
   libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
   libcli11-dev nlohmann-json3-dev libopenexr-dev
+  zlib1g-dev  # the PNG writer's deflate
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
   hyperfine  # whole-process timings in docs/results.md
   # The Vulkan backend: loader + headers, the GLSL compiler, lavapipe (a CPU Vulkan 1.3 device,

@@ -2,6 +2,7 @@
 #include <stb/stb_image.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -331,6 +332,74 @@ TEST(SrgbEncoding, PiecewiseTransfer) {
   EXPECT_EQ(penumbra::linear_to_srgb8(7.0f), 255);
   EXPECT_EQ(penumbra::linear_to_srgb8(-1.0f), 0);
   EXPECT_EQ(penumbra::linear_to_srgb8(std::numeric_limits<float>::quiet_NaN()), 0);
+}
+
+// linear_to_srgb8 is a table lookup (image_io.cpp): it must give the formula's code for every
+// float. The whole range [0, 1] was checked once (1.07e9 floats, no difference); here every 61st
+// bit pattern and ±300 patterns around each of the 255 steps, in well under a second.
+TEST(SrgbEncoding, TableEqualsFormulaForEveryFloat) {
+  const auto formula = [](float x) {
+    const float encoded = penumbra::linear_to_srgb(x) * 255.0f + 0.5f;
+    return std::clamp(static_cast<int>(encoded), 0, 255);
+  };
+  const auto check = [&](uint32_t bits) {
+    const float x = std::bit_cast<float>(bits);
+    if (penumbra::linear_to_srgb8(x) != formula(x)) {
+      ADD_FAILURE() << "bits " << bits << " (" << x << "): table "
+                    << int{penumbra::linear_to_srgb8(x)} << ", formula " << formula(x);
+      return false;
+    }
+    return true;
+  };
+  constexpr uint32_t kOne = 0x3F800000u;
+  for (uint32_t b = 0; b <= kOne + 64; b += 61)
+    if (!check(b)) return;
+  int steps = 0;
+  for (uint32_t b = 1; b <= kOne; ++b) {
+    // Bisect to each step of the formula, then check its neighbourhood densely.
+    const int code = formula(std::bit_cast<float>(b - 1));
+    if (code == 255) break;
+    uint32_t lo = b - 1, hi = kOne;
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      (formula(std::bit_cast<float>(mid)) > code ? hi : lo) = mid;
+    }
+    ++steps;
+    for (uint32_t k = hi - std::min<uint32_t>(hi, 300); k <= hi + 300; ++k)
+      if (!check(k)) return;
+    b = hi;
+  }
+  EXPECT_EQ(steps, 255);
+}
+
+/// A 128² image of every kind of value a render holds (ramps, noise, out of range, NaN) written
+/// as PNG and decoded again: the file holds exactly linear_to_srgb8 of every channel.
+TEST_F(ImageIoTest, PngDecodesToTheEncodedImage) {
+  Image<Vec3> image(128, 128);
+  uint32_t state = 12345;
+  const auto noise = [&] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<float>(state >> 8) / static_cast<float>(1u << 24);
+  };
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x)
+      image(x, y) = y < 64 ? Vec3(x / 127.0f, y / 63.0f, 1.1f * noise() - 0.05f)
+                           : Vec3(noise(), x == y ? std::numeric_limits<float>::quiet_NaN() : 0.25f,
+                                  noise() * 0.004f);
+  const fs::path path = file("decoded.png");
+  penumbra::write_png_rgb(path, image);
+  int w = 0, h = 0, n = 0;
+  unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &n, 3);
+  ASSERT_NE(data, nullptr) << stbi_failure_reason();
+  ASSERT_EQ(w, 128);
+  ASSERT_EQ(h, 128);
+  EXPECT_EQ(n, 3);
+  int differing = 0;
+  for (size_t i = 0; i < image.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      differing += data[3 * i + c] != penumbra::linear_to_srgb8(image[i][c]);
+  stbi_image_free(data);
+  EXPECT_EQ(differing, 0);
 }
 
 TEST_F(ImageIoTest, PngRgbIsSrgbEncodedAndReadable) {

@@ -116,10 +116,64 @@ void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   write_text_file(path, j.dump(2) + "\n");
 }
 
+/// Where the whole process's time went, in the order it was spent: stats.json's "frame" block and
+/// the breakdown line printed at the end. Every stage is wall time on the main thread; other_ms is
+/// the rest of elapsed_ms (CLI parsing, the checks of Frame::run's results, stats.json). Not in
+/// it: the dynamic loader before static initialisation and the exit after the last stats.json.
+struct ProcessCosts {
+  double startup_ms = 0.0;  // static initialisation → the render command's start
+  double load_ms = 0.0;     // the scene and its meshes
+  double setup_ms = 0.0;    // methods, options, memory check, output folder
+  double aovs_ms = 0.0;     // --aov files
+  double methods_ms = 0.0;  // every Frame::run so far (the methods' own times and their checks)
+  double outputs_ms = 0.0;  // every method's comparison, images and stats so far
+
+  /// The CLI's entries of the "frame" block; stats_json (outputs.hpp) wrote the frame's own.
+  void add_to(nlohmann::json& frame) const {
+    frame["startup_ms"] = startup_ms;
+    frame["load_ms"] = load_ms;
+    frame["setup_ms"] = setup_ms;
+    if (aovs_ms > 0.0) frame["aovs_ms"] = aovs_ms;
+    frame["methods_ms"] = methods_ms;
+    frame["outputs_ms"] = outputs_ms;
+    const double elapsed = elapsed_ms(process_start());
+    double accounted = 0.0;
+    for (const auto& [key, value] : frame.items())
+      if (key != "other_ms" && key != "elapsed_ms") accounted += value.get<double>();
+    frame["other_ms"] = std::max(0.0, elapsed - accounted);
+    frame["elapsed_ms"] = elapsed;
+  }
+};
+
+/// One line: each stage of the "frame" block, in the order spent.
+void print_costs(const nlohmann::json& frame) {
+  static const std::pair<const char*, const char*> kStages[] = {
+      {"startup_ms", "startup"},     {"load_ms", "load"},
+      {"setup_ms", "setup"},         {"embree_device_ms", "Embree device"},
+      {"bvh_build_ms", "BVH"},       {"gbuffer_ms", "G-buffer"},
+      {"receivers_ms", "receivers"}, {"irradiance_ms", "irradiance"},
+      {"aovs_ms", "AOVs"},           {"methods_ms", "methods"},
+      {"outputs_ms", "outputs"},     {"other_ms", "other"}};
+  std::string line = "frame:";
+  for (const auto& [key, name] : kStages)
+    if (frame.contains(key)) {
+      char part[64];
+      std::snprintf(part, sizeof part, "%s %s %.0f", line.size() > 6 ? " +" : "", name,
+                    frame[key].get<double>());
+      line += part;
+    }
+  std::fprintf(stderr, "%s = %.0f ms (stats.json \"frame\")\n", line.c_str(),
+               frame["elapsed_ms"].get<double>());
+}
+
 void run_render(const RenderArgs& args) {
-  const auto process_start = std::chrono::steady_clock::now();
+  const auto command_start = std::chrono::steady_clock::now();
+  ProcessCosts costs;
+  costs.startup_ms =
+      std::chrono::duration<double, std::milli>(command_start - process_start()).count();
   Scene scene = load_scene(args.scene, to_framing(args.framing));
-  const double load_ms = elapsed_ms(process_start);
+  costs.load_ms = elapsed_ms(command_start);
+  const auto setup_start = std::chrono::steady_clock::now();
   if (!args.size.empty()) parse_size(args.size, scene.camera);
   const SamplePattern pattern = parse_pattern(args.pattern);
   const ShadingMode shading =
@@ -154,6 +208,8 @@ void run_render(const RenderArgs& args) {
     throw Error("cannot create output folder " + quote(out_dir.string(), 200) + ": " +
                 ec.message());
 
+  costs.setup_ms = elapsed_ms(setup_start);
+
   LightSampleSpec spec;
   spec.pattern = pattern;
   spec.k = args.samples;
@@ -164,16 +220,23 @@ void run_render(const RenderArgs& args) {
   const Frame frame(scene, spec);
   // Shared by every method's beauty image: computed once here so outputs_ms is the writing only.
   for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
-  if (!args.aovs.empty()) write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
+  if (!args.aovs.empty()) {
+    const auto aovs_start = std::chrono::steady_clock::now();
+    write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
+    costs.aovs_ms = elapsed_ms(aovs_start);
+  }
 
   const bool several = methods.size() > 1;
+  nlohmann::json last_frame;
   std::optional<MethodResult> exact;
   std::vector<TableRow> rows;
   for (size_t m = 0; m < methods.size(); ++m) {
     std::fprintf(stderr, "  %-16s ...", methods[m]->name.c_str());
     std::fflush(stderr);
     set_stderr_line_open(true);
+    const auto run_start = std::chrono::steady_clock::now();
     MethodResult result = frame.run(*methods[m], options[m], shading == ShadingMode::integrate);
+    costs.methods_ms += elapsed_ms(run_start);
     std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
     set_stderr_line_open(false);
 
@@ -197,13 +260,13 @@ void run_render(const RenderArgs& args) {
                          [&] { write_visibility(dir, frame, result, format); });
     nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
     stats["shading"] = std::string(to_string(shading));
-    // The whole process so far: load + frame stages + every method run so far + their outputs.
-    stats["frame"]["load_ms"] = load_ms;
-    stats["frame"]["outputs_ms"] = elapsed_ms(outputs_start);
-    stats["frame"]["elapsed_ms"] = elapsed_ms(process_start);
     stats["backend"] = args.backend;
     stats["device"] = device_name;
+    // The whole process so far: every method run so far and their outputs, this one's included.
+    costs.outputs_ms += elapsed_ms(outputs_start);
+    costs.add_to(stats["frame"]);
     write_json(dir / "stats.json", stats);
+    if (m + 1 == methods.size()) last_frame = stats["frame"];
 
     rows.push_back({result.method, result.total_ms, error, ""});
     if (result.method == "exact") exact = std::move(result);
@@ -214,6 +277,7 @@ void run_render(const RenderArgs& args) {
     write_text_file(out_dir / "summary.md", table);
     write_json(out_dir / "summary.json", table_json(rows, frame));
   }
+  print_costs(last_frame);
 }
 
 }  // namespace

@@ -35,4 +35,13 @@ double elapsed_ms(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+namespace {
+// Set during static initialisation: every program that times anything links this file.
+const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
+}  // namespace
+
+std::chrono::steady_clock::time_point process_start() {
+  return kProcessStart;
+}
+
 }  // namespace penumbra

@@ -43,4 +43,8 @@ class ScopedStage {
 /// Milliseconds elapsed since `start`.
 double elapsed_ms(std::chrono::steady_clock::time_point start);
 
+/// The time of the program's static initialisation (after the dynamic loader, before main): the
+/// start of a whole-process timing such as `render`'s stats.json "frame" block.
+std::chrono::steady_clock::time_point process_start();
+
 }  // namespace penumbra

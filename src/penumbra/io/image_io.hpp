@@ -30,8 +30,8 @@ void write_png_rgb(const std::filesystem::path& path, const Image<Vec3>& linear_
 void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
 
-/// Writes one 32-bit FLOAT channel per layer, channel name = layer name, ZIP compression.
-/// All layers must have the same non-zero size and distinct non-empty names.
+/// Writes one 32-bit FLOAT channel per layer, channel name = layer name, ZIP compression (zlib
+/// level 1). All layers must have the same non-zero size and distinct non-empty names.
 void write_exr(const std::filesystem::path& path, const std::vector<FloatLayer>& layers);
 /// Reads every channel of a scanline or tiled EXR as float (HALF/UINT are converted), in file
 /// order (OpenEXR stores channels sorted by name). Pixel (0,0) is the data window's top-left.

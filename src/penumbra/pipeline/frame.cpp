@@ -28,14 +28,7 @@ const Image<Vec3>& Frame::unshadowed(size_t light) const {
   std::call_once(unshadowed_->once.at(light), [&] {
     const auto start = std::chrono::steady_clock::now();
     Image<Vec3> e(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
-    const LightIrradiance& source = irradiance_[light];
-    parallel_rows(gbuffer_.height, [&](int y) {
-      for (int x = 0; x < gbuffer_.width; ++x) {
-        const size_t i = static_cast<size_t>(y) * gbuffer_.width + x;
-        if (receivers_[light][i] == kActive)
-          e[i] = source.at(gbuffer_.shadow_origin(i), gbuffer_.shading_normal[i]);
-      }
-    });
+    irradiance_[light].fill(gbuffer_, receivers_[light], e);
     unshadowed_->images[light] = std::move(e);
     unshadowed_->ms[light] = elapsed_ms(start);
   });

@@ -3,9 +3,36 @@
 #include <algorithm>
 #include <cmath>
 
+#include "penumbra/core/parallel.hpp"
+#include "penumbra/render/receivers.hpp"
+
+#if PENUMBRA_HAVE_LIBMVEC && (defined(__AVX512F__) || defined(__AVX2__))
+#include <immintrin.h>
+// glibc's vector atan2 (libmvec, x86-64 vector ABI names): within 4 ulp of the scalar atan2.
+#if defined(__AVX512F__)
+extern "C" __m512d _ZGVeN8vv_atan2(__m512d y, __m512d x);
+#else
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d y, __m256d x);
+#endif
+#endif
+
 namespace penumbra {
 
 namespace {
+
+constexpr int kLanes = 8;  // receivers per batch of fill's rectangle path
+
+/// out[l] = atan2(y[l], x[l]) for the kLanes lanes.
+void atan2_lanes(const double* y, const double* x, double* out) {
+#if PENUMBRA_HAVE_LIBMVEC && defined(__AVX512F__)
+  _mm512_storeu_pd(out, _ZGVeN8vv_atan2(_mm512_loadu_pd(y), _mm512_loadu_pd(x)));
+#elif PENUMBRA_HAVE_LIBMVEC && defined(__AVX2__)
+  for (int h = 0; h < kLanes; h += 4)
+    _mm256_storeu_pd(out + h, _ZGVdN4vv_atan2(_mm256_loadu_pd(y + h), _mm256_loadu_pd(x + h)));
+#else
+  for (int l = 0; l < kLanes; ++l) out[l] = std::atan2(y[l], x[l]);
+#endif
+}
 
 /// The contour term of the straight edge a → b (both relative to the receiver): θ · (n·û).
 double edge_term(const DVec3& a, const DVec3& b, const DVec3& n) {
@@ -142,6 +169,15 @@ double disk_projected_solid_angle(const DVec3& p, const DVec3& n, const DVec3& c
 }
 
 LightIrradiance::LightIrradiance(const Scene& scene, const Light& light) : light_(&light) {
+  if (light.shape == LightShape::rect) {
+    const LightFrame f = light_frame(light, light.center);  // a rectangle's frame is fixed
+    const DVec3 corner(f.corner), edge_u(f.edge_u), edge_v(f.edge_v);
+    rect_corners_[0] = corner;
+    rect_corners_[1] = corner + edge_u;
+    rect_corners_[2] = corner + edge_u + edge_v;
+    rect_corners_[3] = corner + edge_v;
+    rect_emit_ = DVec3(f.emit_normal);
+  }
   if (!light.is_textured() || light.shape != LightShape::rect) return;
   const Texture& tex = scene.textures[light.emission_texture];
   blocks_u_ = std::min(tex.width, kMaxIrradianceBlocksPerSide);
@@ -244,6 +280,86 @@ Vec3 LightIrradiance::textured_at(const DVec3& p, const DVec3& n, const LightFra
       sum += std::max(0.0, sign * contour) * block_radiance_[static_cast<size_t>(j) * bu + i];
     }
   return Vec3(sum);
+}
+
+void LightIrradiance::fill(const GBuffer& g, const Image<uint8_t>& classes,
+                           Image<Vec3>& out) const {
+  const bool batched = light_->shape == LightShape::rect && block_radiance_.empty();
+  parallel_rows(g.height, [&](int y) {
+    size_t batch[kLanes];
+    int count = 0;
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * g.width + x;
+      if (classes[i] != kActive) continue;
+      if (!batched) {
+        out[i] = at(g.shadow_origin(i), g.shading_normal[i]);
+        continue;
+      }
+      batch[count++] = i;
+      if (count == kLanes) {
+        fill_rect_batch(g, batch, count, out);
+        count = 0;
+      }
+    }
+    if (count > 0) fill_rect_batch(g, batch, count, out);
+  });
+}
+
+void LightIrradiance::fill_rect_batch(const GBuffer& g, const size_t* pixels, int count,
+                                      Image<Vec3>& out) const {
+  // Structure of arrays over the lanes (a short batch repeats its last receiver), in the same
+  // operations as at() → polygon_projected_solid_angle → clipped_contour → edge_term, so that
+  // only the atan2 differs; lanes where the rectangle is not wholly above the horizon, or the
+  // receiver is behind a one-sided light, go through at() itself.
+  alignas(64) double p[3][kLanes], n[3][kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    const size_t i = pixels[std::min(l, count - 1)];
+    const Vec3 origin = g.shadow_origin(i), normal = g.shading_normal[i];
+    for (int c = 0; c < 3; ++c) {
+      p[c][l] = origin[c];
+      n[c][l] = normal[c];
+    }
+  }
+  const bool one_sided = !light_->two_sided;
+  alignas(64) double corner[4][3][kLanes], height[4][kLanes];
+  bool simple[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    const DVec3 to_p(p[0][l] - rect_corners_[0].x, p[1][l] - rect_corners_[0].y,
+                     p[2][l] - rect_corners_[0].z);
+    simple[l] = !one_sided || glm::dot(rect_emit_, to_p) > 0.0;
+  }
+  for (int k = 0; k < 4; ++k)
+    for (int l = 0; l < kLanes; ++l) {
+      for (int c = 0; c < 3; ++c) corner[k][c][l] = rect_corners_[k][c] - p[c][l];
+      height[k][l] =
+          n[0][l] * corner[k][0][l] + n[1][l] * corner[k][1][l] + n[2][l] * corner[k][2][l];
+    }
+  for (int l = 0; l < kLanes; ++l)
+    simple[l] = simple[l] && height[0][l] > 0.0 && height[1][l] > 0.0 && height[2][l] > 0.0 &&
+                height[3][l] > 0.0;
+
+  alignas(64) double sum[kLanes] = {};
+  for (int k = 0; k < 4; ++k) {
+    const double(&a)[3][kLanes] = corner[k];
+    const double(&b)[3][kLanes] = corner[(k + 1) % 4];
+    alignas(64) double len[kLanes], cos_part[kLanes], n_dot_c[kLanes], angle[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      // glm::cross, glm::length and glm::dot, written out per lane.
+      const double cx = a[1][l] * b[2][l] - b[1][l] * a[2][l];
+      const double cy = a[2][l] * b[0][l] - b[2][l] * a[0][l];
+      const double cz = a[0][l] * b[1][l] - b[0][l] * a[1][l];
+      len[l] = std::sqrt(cx * cx + cy * cy + cz * cz);
+      cos_part[l] = a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l];
+      n_dot_c[l] = n[0][l] * cx + n[1][l] * cy + n[2][l] * cz;
+    }
+    atan2_lanes(len, cos_part, angle);
+    for (int l = 0; l < kLanes; ++l) sum[l] += len[l] > 0.0 ? angle[l] * n_dot_c[l] / len[l] : 0.0;
+  }
+  for (int l = 0; l < count; ++l) {
+    const size_t i = pixels[l];
+    out[i] = simple[l] ? light_->radiance * static_cast<float>(0.5 * std::abs(sum[l]))
+                       : at(g.shadow_origin(i), g.shading_normal[i]);
+  }
 }
 
 }  // namespace penumbra

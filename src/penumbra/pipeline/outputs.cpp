@@ -150,7 +150,8 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
   j["times_ms"] = times;
   j["counters"] = counters_json(counters);
   if (result.per_light.size() > 1) j["lights"] = lights;
-  j["frame"] = {{"bvh_build_ms", frame.embree().build_ms()},
+  j["frame"] = {{"embree_device_ms", frame.embree().device_ms()},
+                {"bvh_build_ms", frame.embree().build_ms()},
                 {"gbuffer_ms", frame.gbuffer_ms()},
                 {"receivers_ms", frame.receivers_ms()},
                 {"irradiance_ms", frame.irradiance_ms()}};

@@ -30,9 +30,10 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& gbuffer,
                 const std::vector<std::string>& aovs, FloatFormat format);
 
 /// Everything stats.json holds: method, parameters, scene, samples, times_ms (with "total"),
-/// counters (per light when there are several), frame (the shared stages: bvh_build_ms,
-/// gbuffer_ms, receivers_ms, irradiance_ms; the CLI adds load_ms, outputs_ms and elapsed_ms) and,
-/// when given, the error against `exact`.
+/// counters (per light when there are several), frame (the shared stages: embree_device_ms,
+/// bvh_build_ms, gbuffer_ms, receivers_ms, irradiance_ms; `penumbra render` adds the rest of the
+/// process: startup_ms, load_ms, setup_ms, aovs_ms, methods_ms, outputs_ms, other_ms and their sum
+/// elapsed_ms) and, when given, the error against `exact`.
 nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
                           const ErrorStats* vs_exact);
 

@@ -62,8 +62,10 @@ void check_device(RTCDevice device, const char* what) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
+  const auto device_start = std::chrono::steady_clock::now();
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw Error("cannot create the Embree device");
+  device_ms_ = elapsed_ms(device_start);
   const auto start = std::chrono::steady_clock::now();
   rtc_scene_ = rtcNewScene(device_);
   // Robust mode: watertight triangle tests, so shadow rays never leak through shared edges.

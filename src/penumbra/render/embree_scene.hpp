@@ -26,6 +26,8 @@ class EmbreeScene {
   RTCScene handle() const { return rtc_scene_; }
   /// Wall time of the BVH build, milliseconds.
   double build_ms() const { return build_ms_; }
+  /// Wall time of the Embree device's creation (its thread pool, CPU dispatch), milliseconds.
+  double device_ms() const { return device_ms_; }
   /// Mesh index of an Embree geometry id.
   int mesh_of_geometry(unsigned geom_id) const { return mesh_of_geom_[geom_id]; }
   /// Does some material need filter callbacks (alpha or transmittance)?
@@ -42,6 +44,7 @@ class EmbreeScene {
   std::vector<int> mesh_of_geom_;
   std::vector<GeometryData> geometry_data_;  // filter-function user data, one per mesh
   double build_ms_ = 0.0;
+  double device_ms_ = 0.0;
   bool has_filters_ = false;
 };
 

@@ -22,9 +22,11 @@ bool is_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
 }
 
-/// Whitespace-separated tokens of one line.
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
+/// Whitespace-separated tokens of one line, into `out` (cleared first). The caller keeps `out`
+/// across lines: a fresh vector per line made the allocator a third of the validation's time on a
+/// 2.6 MB OFF file.
+void split(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
   size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && is_space(line[i])) ++i;
@@ -32,7 +34,6 @@ std::vector<std::string_view> split(std::string_view line) {
     while (i < line.size() && !is_space(line[i])) ++i;
     if (i > start) out.push_back(line.substr(start, i - start));
   }
-  return out;
 }
 
 bool parse_uint(std::string_view token, uint64_t& value) {
@@ -216,8 +217,9 @@ MeshFileCounts validate_ply(std::string_view bytes) {
   bool have_format = false, have_end = false;
   PlyFormat format = PlyFormat::ascii;
   std::vector<PlyElement> elements;
+  std::vector<std::string_view> t;
   while (next_line(bytes, pos, line)) {
-    const std::vector<std::string_view> t = split(line);
+    split(line, t);
     if (t.empty()) continue;
     if (t[0] == "end_header") {
       have_end = true;
@@ -332,7 +334,7 @@ bool next_content_line(std::string_view bytes, size_t& pos, std::vector<std::str
   while (next_line(bytes, pos, line)) {
     if (const size_t hash = line.find('#'); hash != std::string_view::npos)
       line = line.substr(0, hash);
-    tokens = split(line);
+    split(line, tokens);
     if (!tokens.empty()) return true;
   }
   return false;
@@ -428,11 +430,12 @@ void validate_obj(std::string_view bytes) {
             std::to_string(defined[k]) + " defined so far");
     }
   };
+  std::vector<std::string_view> t;
   while (next_line(bytes, pos, line)) {
     ++line_no;
     const size_t hash = line.find('#');
     if (hash != std::string_view::npos) line = line.substr(0, hash);
-    const std::vector<std::string_view> t = split(line);
+    split(line, t);
     if (t.empty()) continue;
     const std::string_view key = t[0];
     const auto numbers = [&](size_t lo, size_t hi) {

@@ -19,6 +19,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/scene/mesh_header.hpp"
+#include "penumbra/scene/off_reader.hpp"
 
 namespace penumbra {
 
@@ -125,10 +126,21 @@ std::string read_file(const std::filesystem::path& path) {
   require_regular_file(path, "cannot load mesh");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  // One read of the whole file (a stringstream would grow and copy it several times).
+  std::string text;
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size < std::numeric_limits<size_t>::max() / 2) {
+    text.resize(static_cast<size_t>(size));
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+  }
+  // Whatever the size query missed (a file growing while read) is appended.
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0)
+    text.append(chunk, static_cast<size_t>(in.gcount()));
   if (in.bad()) fail(path, "cannot read the file");
-  return std::move(text).str();
+  return text;
 }
 
 std::string lowercase_extension(const std::filesystem::path& path) {
@@ -140,17 +152,28 @@ std::string lowercase_extension(const std::filesystem::path& path) {
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
-  // OFF, PLY, OBJ and STL are validated in full before assimp sees them (mesh_header.hpp).
+  // A plain OFF file is read directly, to assimp's mesh (off_reader.hpp: its subset is strict, so
+  // it checks all the validation would). OFF, PLY, OBJ and STL files are otherwise validated in
+  // full before assimp sees them (mesh_header.hpp).
   std::optional<MeshFileCounts> counts;
   try {
-    counts = validate_mesh_file(read_file(path), lowercase_extension(path));
+    const std::string bytes = read_file(path);
+    const std::string extension = lowercase_extension(path);
+    if (extension == ".off")
+      if (std::optional<Mesh> mesh = read_plain_off(bytes, path.stem().string()))
+        return std::move(*mesh);
+    counts = validate_mesh_file(bytes, extension);
   } catch (const Error& e) {
     if (std::string_view(e.what()).rfind("cannot load mesh", 0) == 0) throw;
     fail(path, e.what());
   } catch (const std::bad_alloc&) {
     fail(path, "out of memory reading the file");
   }
+  return import_mesh_file(path, counts);
+}
 
+Mesh import_mesh_file(const std::filesystem::path& path,
+                      const std::optional<MeshFileCounts>& counts) {
   try {
     Assimp::Importer importer;
     // Drop point and line primitives entirely (SortByPType then leaves triangle meshes only).
