@@ -497,9 +497,10 @@ MeshFileCounts validate_stl(std::string_view bytes) {
   const auto expect = [&](bool ok, std::string_view what) {
     if (!ok) bad(where() + "expected " + std::string(what));
   };
+  std::vector<std::string_view> t;
   while (next_line(bytes, pos, line)) {
     ++line_no;
-    const std::vector<std::string_view> t = split(line);
+    split(line, t);
     if (t.empty()) continue;
     const std::string_view key = t[0];
     const auto numbers = [&](size_t first) {
