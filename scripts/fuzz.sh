@@ -20,7 +20,7 @@ sources=(src/penumbra/core/*.cpp src/penumbra/io/*.cpp src/penumbra/scene/*.cpp)
 flags=(-std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
        -fno-sanitize-recover=undefined -DGLM_FORCE_XYZW_ONLY -Isrc
        $(pkg-config --cflags OpenEXR stb))
-libs=($(pkg-config --libs OpenEXR assimp tbb stb))
+libs=($(pkg-config --libs OpenEXR assimp tbb stb zlib))
 
 # Each source compiled once (rebuilt when it or any header is newer), shared by both targets; one
 # compiler per core.
