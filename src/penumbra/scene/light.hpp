@@ -57,4 +57,10 @@ struct LightFrame {
 /// inside the sphere (d ≤ r, "light touching geometry") gets the disk through the centre.
 LightFrame light_frame(const Light& light, const Vec3& receiver_world_pos);
 
+/// Whether light_frame depends on the receiver (a sphere light's silhouette disk); otherwise the
+/// frame from any point, e.g. light_frame(light, light.center), serves every receiver.
+inline bool frame_depends_on_receiver(const Light& light) {
+  return light.shape == LightShape::sphere;
+}
+
 }  // namespace penumbra

@@ -150,7 +150,7 @@ std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& na
       skip_blanks(line, c);
       float x = 0.0f;
       if (!read_coordinate(line, c, x)) return std::nullopt;
-      if (x != 0.0f && !(std::abs(x) >= 1e-12f)) return std::nullopt;  // also inf and NaN
+      if (x != 0.0f && !(std::abs(x) >= 1e-12f)) return std::nullopt;  // also NaN
       if (!std::isfinite(x)) return std::nullopt;
       file_positions[v][k] = x;
     }
@@ -183,9 +183,7 @@ std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& na
   std::vector<bool> used(nv, false);
   for (const Triangle& t : mesh.triangles)
     for (uint32_t i : t.v) used[i] = true;
-  const auto key = [](const Vec3& p) {
-    // Equal floats, +0 and −0 alike, give equal keys: p + 0 turns −0 into +0.
-    const Vec3 q = p + Vec3(0.0f);
+  const auto key = [](const Vec3& q) {  // q without −0: equal floats give equal keys
     uint64_t h = 1469598103934665603ull;
     for (int k = 0; k < 3; ++k) {
       uint32_t bits = 0;
@@ -200,10 +198,10 @@ std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& na
   mesh.positions.reserve(nv);
   for (uint64_t v = 0; v < nv; ++v) {
     if (!used[v]) continue;
-    const Vec3& p = file_positions[v];
-    const uint64_t h = key(p);
+    // The importer's identity node transform adds 0: −0 → +0.
+    const Vec3 q = file_positions[v] + Vec3(0.0f);
+    const uint64_t h = key(q);
     uint32_t joined = std::numeric_limits<uint32_t>::max();
-    const Vec3 q = p + Vec3(0.0f);
     for (auto [it, last] = first_at.equal_range(h); it != last; ++it)
       if (const Vec3& r = mesh.positions[it->second]; r.x == q.x && r.y == q.y && r.z == q.z) {
         joined = it->second;
@@ -211,7 +209,7 @@ std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& na
       }
     if (joined == std::numeric_limits<uint32_t>::max()) {
       joined = static_cast<uint32_t>(mesh.positions.size());
-      mesh.positions.push_back(q);  // the importer's identity node transform adds 0: −0 → +0
+      mesh.positions.push_back(q);
       first_at.emplace(h, joined);
     }
     renumbered[v] = joined;

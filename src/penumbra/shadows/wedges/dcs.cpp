@@ -438,7 +438,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   Sampler sampler(ctx, options, classes, edges, area ? &bw : nullptr, sset, out);
   const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
   std::vector<RowStats> rows(tiles_y);
-  const bool per_pixel_frame = light.shape == LightShape::sphere;
+  const bool per_pixel_frame = frame_depends_on_receiver(light);
   const LightFrame fixed_frame = light_frame(light, light.center);
   parallel_rows(tiles_y, [&](int ty) {
     RowStats& st = rows[ty];

@@ -229,7 +229,7 @@ Image<float> run_pass2(const ShadowContext& ctx, const Light& light, const Binne
                        PassCounters& total, Shade&& shade) {
   const GBuffer& g = ctx.gbuffer;
   Image<float> vis(g.width, g.height, 1.0f);
-  const bool per_pixel_frame = light.shape == LightShape::sphere;
+  const bool per_pixel_frame = frame_depends_on_receiver(light);
   const LightFrame fixed_frame = light_frame(light, light.center);
   std::vector<PassCounters> rows(bw.tiles_y);
   parallel_rows(bw.tiles_y, [&](int ty) {
