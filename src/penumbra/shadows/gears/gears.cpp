@@ -291,6 +291,16 @@ class Gears final : public ShadowMethod {
               l_read += sc.batch.read;
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
+              if (sc.batch.count == 0) {
+                // Nothing can block any of the item's samples (most of a frame's pixels): their
+                // masks stay zero, and only semi-opaque scenes shade here.
+                if (any_translucent) {
+                  sc.trans.assign(n, 1.0f);
+                  for (int i = 0; i < m; ++i)
+                    shade(active[cells.sorted[item.begin + i].item], sc.trans.data(), sc);
+                }
+                continue;
+              }
               // The item's samples in groups close in slab coordinates, each culling the item's
               // candidates with its own bounds before its samples' per-pixel culls scan them.
               group_samples(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m,
