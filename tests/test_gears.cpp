@@ -92,6 +92,7 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"pixel_cull", "false"}},
                                                        {{"group", "0"}},
                                                        {{"hidden_cull", "false"}},
+                                                       {{"box_cull", "false"}},
                                                        {{"long_chunk", "1"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
@@ -182,6 +183,42 @@ TEST(Gears, ItemCullIsConservative) {
   std::printf("item cull: %d of 3000 random triangles block, %d culled\n", blocking, culled);
   EXPECT_GT(blocking, 100);
   EXPECT_GT(culled, 1000);
+}
+
+/// A mesh box's cull bounds (gears::box_cull_bounds) keep every sample that one of its triangles'
+/// own bounds keep: random triangles, each boxed as tightly as floats allow (its vertices' box, so
+/// corners coincide with vertices), and random samples, a third of them near the triangle.
+TEST(Gears, BoxCullBoundsKeepWhatTheirTrianglesKeep) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f);
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  int kept_by_triangle = 0, culled_by_box = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    DVec3 v[3];
+    const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
+    const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
+    const gears::PackedTriangle tri = gears::pack_triangles(soup, +1, zmin, light)[0];
+    Vec3 lo(kInfinity), hi(-kInfinity);
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 q(soup.x[c][0], soup.y[c][0], soup.z[c][0]);
+      lo = glm::min(lo, q), hi = glm::max(hi, q);
+    }
+    const gears::PackedTriangle box = gears::box_cull_bounds(light, lo, hi);
+    Vec3 p(xy(rng), xy(rng), sz(rng));
+    if (trial % 3 == 0) p = Vec3(v[0]) + Vec3(0.0f, 0.0f, 1e-3f * sz(rng));
+    const gears::ItemBounds own = gears::item_bounds(light, &p.x, &p.y, &p.z, 1);
+    const bool by_triangle = gears::may_block(tri, own), by_box = gears::may_block(box, own);
+    kept_by_triangle += by_triangle;
+    culled_by_box += !by_box;
+    if (by_triangle) {
+      EXPECT_TRUE(by_box) << "trial " << trial;
+    }
+  }
+  std::printf("box cull: triangles keep %d of 20000 samples, boxes cull %d\n", kept_by_triangle,
+              culled_by_box);
+  EXPECT_GT(kept_by_triangle, 12000);  // measured 12933
+  EXPECT_GT(culled_by_box, 4500);      // measured 5044
 }
 
 /// The per-pixel cull (CandidateBatch::keep: the slabs and depth cut for one sample, and the
@@ -563,6 +600,22 @@ TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
               scanned / item, v.counters.at("assignments_total"));
   EXPECT_LE(scanned, 0.95 * item);  // measured 0.911
   EXPECT_GE(scanned, v.counters.at("assignments_total"));
+}
+
+/// The mesh-box cull leaves most of the ground out of the grid on `spheres` (64², k 16) and sets
+/// up the same candidates: a pixel no mesh box can shadow sets up no triangle.
+TEST(Gears, BoxCullLeavesOutPixelsNothingCanShadow) {
+  const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
+  const Visibility on = t.run("gears").per_light[0];
+  const Visibility off = t.run("gears", {{"box_cull", "false"}}).per_light[0];
+  const double culled = on.counters.at("pixels_box_culled");
+  const double active = on.counters.at("active_pixels");
+  std::printf("box cull: %.0f of %.0f active pixels (%.3f)\n", culled, active, culled / active);
+  EXPECT_GT(culled, 0.38 * active);  // measured 0.407
+  EXPECT_EQ(off.counters.at("pixels_box_culled"), 0.0);
+  EXPECT_NEAR(on.counters.at("assignments_total"), off.counters.at("assignments_total"),
+              1e-3 * off.counters.at("assignments_total"));
+  EXPECT_LE(on.counters.at("gather_reads"), off.counters.at("gather_reads"));
 }
 
 /// The groups' own cull halves what the per-pixel culls scan on a frame (spheres 64², k 16, grid

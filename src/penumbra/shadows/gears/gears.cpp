@@ -42,6 +42,7 @@ struct Options {
   int group = 8;
   int long_chunk = 4;
   bool hidden_cull = true;
+  bool box_cull = true;
 };
 
 /// Cell lists longer than this get work items of `long_chunk` × `chunk` samples (items loop).
@@ -165,6 +166,49 @@ class Gears final : public ShadowMethod {
       uv_lo = Vec2(kInfinity), uv_hi = Vec2(-kInfinity);
       for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
     }
+    // Pixels no occluder's box can shadow (most of a frame, for a rectangle or disk light with
+    // shared samples): left out of the grid passes, their masks stay zero. The boxes are in light
+    // space, per shadow-casting mesh (up to kMaxCullBoxes of them).
+    t0 = std::chrono::steady_clock::now();
+    std::vector<uint8_t> may_be_shadowed(active.size(), 1);
+    uint64_t box_culled = 0;
+    constexpr size_t kMaxCullBoxes = 256;
+    if (opt_.box_cull && !per_pixel_samples && !point && !sphere) {
+      FlatLight light_box;
+      light_box.flat = true;
+      light_box.lx0 = uv_lo.x, light_box.lx1 = uv_hi.x, light_box.ly0 = uv_lo.y,
+      light_box.ly1 = uv_hi.y;
+      std::vector<PackedTriangle> boxes;
+      for (const Mesh& mesh : ctx.scene.meshes) {
+        if (!mesh.casts_shadows || mesh.triangle_count() == 0) continue;
+        const Bounds3 world = mesh.bounds();
+        Vec3 lo(kInfinity), hi(-kInfinity);
+        for (int c = 0; c < 8; ++c) {
+          const Vec3 q =
+              space.to_light(Vec3(c & 1 ? world.hi.x : world.lo.x, c & 2 ? world.hi.y : world.lo.y,
+                                  c & 4 ? world.hi.z : world.lo.z));
+          lo = glm::min(lo, q), hi = glm::max(hi, q);
+        }
+        boxes.push_back(box_cull_bounds(light_box, lo, hi));
+      }
+      if (boxes.size() <= kMaxCullBoxes) {
+        std::atomic<uint64_t> culled{0};
+        parallel_chunks(active.size(), 4096, [&](size_t b, size_t e) {
+          uint64_t local = 0;
+          for (size_t a = b; a < e; ++a) {
+            const Vec3& q = p_light[a];
+            const ItemBounds own = item_bounds(light_box, &q.x, &q.y, &q.z, 1);
+            bool any = !(q.z > 0.0f);
+            for (size_t i = 0; i < boxes.size() && !any; ++i) any = may_block(boxes[i], own);
+            may_be_shadowed[a] = any;
+            local += !any;
+          }
+          culled += local;
+        });
+        box_culled = culled.load();
+      }
+    }
+    vis.times.add("pixel_box_cull", elapsed_ms(t0));
     std::unique_ptr<EdgeLut> lut;
     if (use_lut) lut = std::make_unique<EdgeLut>(shared, opt_.lut_resolution, opt_.lut_resolution);
     std::vector<float> shared_u(n), shared_v(n);
@@ -215,19 +259,24 @@ class Gears final : public ShadowMethod {
     // One grid pass per side of the light plane that has samples.
     for (int side : {+1, -1}) {
       t0 = std::chrono::steady_clock::now();
+      // The grid spans every sample of the side (its cells then do not depend on the box cull),
+      // only the samples that may be shadowed are bucketed.
       std::vector<uint32_t> ids;
-      std::vector<Vec3> pts;
+      std::vector<Vec3> pts, side_pts;
       for (size_t a = 0; a < active.size(); ++a) {
         const Vec3& q = p_light[a];
-        if ((side > 0) == (q.z >= 0.0f)) {
+        if ((side > 0) != (q.z >= 0.0f)) continue;
+        side_pts.emplace_back(q.x, q.y, side * q.z);
+        if (may_be_shadowed[a]) {
           ids.push_back(static_cast<uint32_t>(a));
-          pts.emplace_back(q.x, q.y, side * q.z);
+          pts.push_back(side_pts.back());
         }
       }
       if (ids.empty()) continue;
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
-      const GridCamera cam =
-          make_grid_camera(side_space, corners, light_max_z, pts, opt_.eye_distance, opt_.grid);
+      const GridCamera cam = make_grid_camera(side_space, corners, light_max_z, side_pts,
+                                              opt_.eye_distance, opt_.grid);
+      side_pts = {};
       const PixelCells cells = bucket_pixels(cam, ids, pts);
       project_ms += elapsed_ms(t0);
 
@@ -573,17 +622,25 @@ class Gears final : public ShadowMethod {
     // semi-opaque occluders shade inside the work item (above), while the pixel's transmittances
     // are in the thread's scratch: memory per work item, not frame × samples.
     t0 = std::chrono::steady_clock::now();
-    if (!any_translucent)
-      parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
-        Scratch& sc = scratch.local();
-        for (size_t a = b; a < e; ++a) shade(active[a], nullptr, sc);
-      });
+    parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
+      Scratch& sc = scratch.local();
+      for (size_t a = b; a < e; ++a) {
+        if (!any_translucent) {
+          shade(active[a], nullptr, sc);
+        } else if (!may_be_shadowed[a]) {  // the grid passes shaded the others
+          sc.trans.assign(n, 1.0f);
+          shade(active[a], sc.trans.data(), sc);
+        }
+      }
+    });
     vis.times.add("shading", elapsed_ms(t0));
 
     Counters& c = vis.counters;
     c["triangles"] = static_cast<double>(tri_count);
     c["active_pixels"] = static_cast<double>(active.size());
     c["back_facing_skipped"] = static_cast<double>(back_facing);
+    // Active pixels no shadow-casting mesh's box can shadow: not in the grid passes.
+    c["pixels_box_culled"] = static_cast<double>(box_culled);
     c["pairs"] = static_cast<double>(astats.pairs);
     c["pairs_without_retraction"] = static_cast<double>(astats.pairs_without_retraction);
     c["aabb_cells"] = static_cast<double>(astats.aabb_cells);
@@ -703,6 +760,13 @@ void register_gears(MethodRegistry& registry) {
        {},
        0,
        1},
+      {"box_cull",
+       OptionType::boolean,
+       "true",
+       "leave out of the grid the pixels no shadow-casting mesh's bounding box can shadow",
+       {},
+       0,
+       1},
       {"long_chunk",
        OptionType::integer,
        "4",
@@ -724,6 +788,7 @@ void register_gears(MethodRegistry& registry) {
     opt.group = o.get_int("group");
     opt.long_chunk = o.get_int("long_chunk");
     opt.hidden_cull = o.get_bool("hidden_cull");
+    opt.box_cull = o.get_bool("box_cull");
     return std::make_unique<Gears>(opt);
   };
   registry.add(std::move(info));

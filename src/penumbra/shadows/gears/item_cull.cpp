@@ -75,6 +75,26 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
   return out;
 }
 
+PackedTriangle box_cull_bounds(const FlatLight& light, Vec3 lo, Vec3 hi) {
+  PackedTriangle p{};
+  const Vec3 margin = 1e-4f * (hi - lo) + 1e-4f * glm::max(glm::abs(lo), glm::abs(hi)) + kAbs;
+  lo -= margin, hi += margin;
+  p.zmin = lo.z;
+  p.hx0 = p.hy0 = kInfinity;
+  p.hx1 = p.hy1 = -kInfinity;
+  if (!light.flat || !(lo.z > 0.0f)) return p;
+  float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
+  for (int c = 0; c < 8; ++c) {
+    // (x − lx0)/z over the box is extremal at a corner (a linear-fractional function, z > 0).
+    const float x = c & 1 ? hi.x : lo.x, y = c & 2 ? hi.y : lo.y, z = c & 4 ? hi.z : lo.z;
+    hx0 = std::max(hx0, (x - light.lx0) / z), hx1 = std::min(hx1, (x - light.lx1) / z);
+    hy0 = std::max(hy0, (y - light.ly0) / z), hy1 = std::min(hy1, (y - light.ly1) / z);
+  }
+  p.hx0 = widen_up(hx0), p.hx1 = widen_down(hx1);
+  p.hy0 = widen_up(hy0), p.hy1 = widen_down(hy1);
+  return p;
+}
+
 ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
                        int count) {
   ItemBounds b{light.max_z, kInfinity, -kInfinity, kInfinity, -kInfinity};

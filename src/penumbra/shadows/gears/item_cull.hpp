@@ -96,6 +96,12 @@ void group_samples(const FlatLight& light, const float* x, const float* y, const
 
 std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& camera);
 
+/// Cull bounds (PackedTriangle's zmin, hx0 … hy1) of a light-space box [lo, hi] standing for every
+/// triangle inside it, widened beyond the rounding of its triangles' own bounds (geometrically,
+/// by 10⁻⁴ of its extent, and as pack_triangles widens): a sample for which may_block() fails on
+/// the box fails it on each of those triangles. A box reaching the light plane culls nothing.
+PackedTriangle box_cull_bounds(const FlatLight& light, Vec3 lo, Vec3 hi);
+
 inline bool may_block(const PackedTriangle& t, const ItemBounds& b) {
   return (t.zmin <= b.zmax) & (b.ix0 <= t.hx0) & (b.ix1 >= t.hx1) & (b.iy0 <= t.hy0) &
          (b.iy1 >= t.hy1);
