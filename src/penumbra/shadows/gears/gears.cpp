@@ -22,6 +22,7 @@
 #include "penumbra/shadows/gears/item_cull.hpp"
 #include "penumbra/shadows/gears/lut.hpp"
 #include "penumbra/shadows/gears/raster.hpp"
+#include "penumbra/shadows/gears/solids.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 #include "penumbra/shadows/registry.hpp"
 
@@ -43,6 +44,7 @@ struct Options {
   int long_chunk = 4;
   bool hidden_cull = true;
   bool box_cull = true;
+  bool solid_cull = true;
 };
 
 /// Cell lists longer than this get work items of `long_chunk` × `chunk` samples (items loop).
@@ -58,6 +60,7 @@ struct Scratch {
   std::vector<Vec2> shade_uv;
   std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
   std::vector<float> gx, gy, gz;  // one group's
+  std::vector<Vec3> gp;           // one group's samples (unmirrored light space)
   std::vector<uint64_t> cover, blocked;
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
 };
@@ -144,6 +147,9 @@ class Gears final : public ShadowMethod {
       }
     });
     vis.times.add("light_space_setup", elapsed_ms(t0));
+    t0 = std::chrono::steady_clock::now();
+    const Solids solids = opt_.solid_cull ? find_solids(ctx.scene, soup) : Solids{};
+    vis.times.add("find_solids", elapsed_ms(t0));
 
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
@@ -283,7 +289,9 @@ class Gears final : public ShadowMethod {
       const CellTriangles table = assign_triangles(cam, soup, side, cells, opt_.assign, astats);
       FlatLight flat = flat_light(cam);
       if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
-      const std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      if (solids.count() > 0)
+        for (size_t t = 0; t < tri_count; ++t) packed[t].solid = solids.of_triangle[t];
       const std::vector<TrianglePlane> planes =
           triangle_planes(soup, plane_test_corners(flat, cam));
       peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
@@ -364,8 +372,15 @@ class Gears final : public ShadowMethod {
                     const int i = sc.group_order[g0 + j];
                     sc.gx[j] = sc.ix[i], sc.gy[j] = sc.iy[i], sc.gz[j] = sc.iz[i];
                   }
+                  uint64_t outside = ~uint64_t{0};
+                  sc.gp.resize(gm);
+                  for (int j = 0; j < gm; ++j) {
+                    sc.gp[j] = p_light[cells.sorted[item.begin + sc.group_order[g0 + j]].item];
+                    outside &= solids.outside(sc.gp[j]);
+                  }
                   sc.group_batch.narrow(
-                      sc.batch, item_bounds(flat, sc.gx.data(), sc.gy.data(), sc.gz.data(), gm));
+                      sc.batch, item_bounds(flat, sc.gx.data(), sc.gy.data(), sc.gz.data(), gm),
+                      sc.gp.data(), gm, solids.count() > 0 ? outside : 0);
                   from = &sc.group_batch;
                 }
                 l_group += uint64_t(from->count) * (g1 - g0);
@@ -567,6 +582,7 @@ class Gears final : public ShadowMethod {
                     constexpr int kChunk = 8 * kLanes;
                     const ShadowBoxCull box{lo, hi, use_rows ? k : 0};
                     const ShadowBoxCull* box_cull = pl.axis_aligned ? &box : nullptr;
+                    const uint64_t outside = solids.outside(p);
                     // The item batch is in depth order: this pixel's depth cut is a prefix of it
                     // (samples nearer than the item's deepest skip the tail).
                     const int scan_end = from->depth_prefix(own.zmax);
@@ -575,7 +591,7 @@ class Gears final : public ShadowMethod {
                       // With the mask so far: shadows inside blocked samples are not set up.
                       const bool hide = use_rows && any_blocked && opt_.hidden_cull;
                       sc.pixel_batch.keep(*from, b, std::min(b + kChunk, scan_end), own, p,
-                                          box_cull, hide ? sc.rows : nullptr);
+                                          box_cull, hide ? sc.rows : nullptr, outside);
                       done = rasterize(sc.pixel_batch);
                     }
                   } else {
@@ -641,6 +657,7 @@ class Gears final : public ShadowMethod {
     c["back_facing_skipped"] = static_cast<double>(back_facing);
     // Active pixels no shadow-casting mesh's box can shadow: not in the grid passes.
     c["pixels_box_culled"] = static_cast<double>(box_culled);
+    c["solids"] = static_cast<double>(solids.count());  // closed components culled by side
     c["pairs"] = static_cast<double>(astats.pairs);
     c["pairs_without_retraction"] = static_cast<double>(astats.pairs_without_retraction);
     c["aabb_cells"] = static_cast<double>(astats.aabb_cells);
@@ -767,6 +784,13 @@ void register_gears(MethodRegistry& registry) {
        {},
        0,
        1},
+      {"solid_cull",
+       OptionType::boolean,
+       "true",
+       "drop the faces of closed opaque meshes that a sample outside their box sees from behind",
+       {},
+       0,
+       1},
       {"long_chunk",
        OptionType::integer,
        "4",
@@ -789,6 +813,7 @@ void register_gears(MethodRegistry& registry) {
     opt.long_chunk = o.get_int("long_chunk");
     opt.hidden_cull = o.get_bool("hidden_cull");
     opt.box_cull = o.get_bool("box_cull");
+    opt.solid_cull = o.get_bool("solid_cull");
     return std::make_unique<Gears>(opt);
   };
   registry.add(std::move(info));

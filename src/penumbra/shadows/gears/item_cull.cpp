@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/shadows/gears/solids.hpp"
 
 namespace penumbra::gears {
 
@@ -60,7 +61,7 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
       p.hx0 = p.hy0 = kInfinity;
       p.hx1 = p.hy1 = -kInfinity;
       p.opaque = soup.opaque[t];
-      p.pad = 0;
+      p.solid = kNoSolid;
       if (!light.flat || !(zmin[t] > 0.0f)) continue;  // reaches the light plane: keep
       float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
       for (int c = 0; c < 3; ++c) {
@@ -77,6 +78,7 @@ std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
 
 PackedTriangle box_cull_bounds(const FlatLight& light, Vec3 lo, Vec3 hi) {
   PackedTriangle p{};
+  p.solid = kNoSolid;
   const Vec3 margin = 1e-4f * (hi - lo) + 1e-4f * glm::max(glm::abs(lo), glm::abs(hi)) + kAbs;
   lo -= margin, hi += margin;
   p.zmin = lo.z;

@@ -30,7 +30,7 @@ struct alignas(64) PackedTriangle {
   float hx0, hx1;   // max (v.x − lx0)/v.z, min (v.x − lx1)/v.z over the vertices
   float hy0, hy1;   // the same in y
   uint32_t opaque;  // TriangleSoup::opaque
-  uint32_t pad;
+  uint32_t solid;   // gears/solids.hpp: its solid, or kNoSolid
 };
 
 /// The samples of one work item, in the same coordinates: a triangle can block one of them only

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstring>
 
+#include "penumbra/shadows/gears/solids.hpp"
 #include "penumbra/shadows/method.hpp"
 
 #if defined(__AVX512F__)
@@ -123,6 +124,16 @@ inline vi shadow_box_holds_samples(const vf r[9], vf px, vf py, vf pzv, Vec2 uv_
   return overlap | ~between;
 }
 
+/// The lanes whose triangle's solid (kNoSolid: none) is one of `outside`'s bits.
+inline vi solid_lanes(const uint32_t* solid, uint64_t outside) {
+  vi s;
+  std::memcpy(&s, solid, sizeof(s));
+  const vi low = vi{} + static_cast<int32_t>(static_cast<uint32_t>(outside));
+  const vi high = vi{} + static_cast<int32_t>(static_cast<uint32_t>(outside >> 32));
+  const vi word = s < 32 ? low : s < kMaxSolids ? high : vi{};
+  return ((word >> (s & 31)) & 1) != 0;
+}
+
 }  // namespace
 
 void CandidateBatch::reserve(size_t most) {
@@ -132,7 +143,7 @@ void CandidateBatch::reserve(size_t most) {
   for (auto* a : {&v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8], &zmin, &hx0,
                   &hx1,  &hy0,  &hy1,  &nx,   &ny,   &nz,   &nd,   &n1,   &lmin, &lmax})
     if (a->size() < most) a->resize(most);
-  if (tri.size() < most) tri.resize(most), opaque.resize(most);
+  if (tri.size() < most) tri.resize(most), opaque.resize(most), solid.resize(most);
 }
 
 void CandidateBatch::pad() {
@@ -144,6 +155,7 @@ void CandidateBatch::pad() {
     hx1[i] = hy1[i] = kInfinity;
     nx[i] = ny[i] = nz[i] = nd[i] = n1[i] = 0.0f;
     lmin[i] = -kInfinity, lmax[i] = kInfinity;
+    solid[i] = kNoSolid;
   }
 }
 
@@ -169,6 +181,7 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
     for (int c = 0; c < 9; ++c) v[c][i] = p.v[c];
     zmin[i] = p.zmin, hx0[i] = p.hx0, hx1[i] = p.hx1, hy0[i] = p.hy0, hy1[i] = p.hy1;
     opaque[i] = p.opaque;
+    solid[i] = p.solid;
     count += may_block(p, item);
   }
   // Planes only for the kept ones (a second cache line per triangle, read once per item).
@@ -199,16 +212,34 @@ inline void compress_lanes(T* to, int at, const T* src, int first, uint32_t m) {
 
 }  // namespace
 
-void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group) {
+void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group, const Vec3* points,
+                            int point_count, uint64_t outside) {
   const int end = from.depth_prefix(group.zmax);
   reserve(static_cast<size_t>(end) + 2 * kLanes);
   count = 0;
   const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
   for (int first = 0; first < end; first += kLanes) {
-    const vi kept = (lane_index + first < end) & (splat(group.ix0) <= load(&from.hx0[first])) &
-                    (splat(group.ix1) >= load(&from.hx1[first])) &
-                    (splat(group.iy0) <= load(&from.hy0[first])) &
-                    (splat(group.iy1) >= load(&from.hy1[first]));
+    vi kept = (lane_index + first < end) & (splat(group.ix0) <= load(&from.hx0[first])) &
+              (splat(group.ix1) >= load(&from.hx1[first])) &
+              (splat(group.iy0) <= load(&from.hy0[first])) &
+              (splat(group.iy1) >= load(&from.hy1[first]));
+    if (point_count > 0 && movemask(kept) != 0) {
+      const vf nxv = load(&from.nx[first]), nyv = load(&from.ny[first]),
+               nzv = load(&from.nz[first]), d = load(&from.nd[first]);
+      const vf n1 = load(&from.n1[first]), abs_d = vmax(d, -d);
+      vi all_above = kept, all_below = kept;
+      for (int i = 0; i < point_count; ++i) {
+        const Vec3& q = points[i];
+        const float q_inf = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+        const vf side = nxv * q.x + nyv * q.y + nzv * q.z - d;
+        const vf tol = (2.0f * kPlaneRel) * (n1 * q_inf + abs_d);
+        all_above &= side > tol;
+        all_below &= side < -tol;
+      }
+      kept &= ~((all_above & (load(&from.lmin[first]) > 0.0f)) |
+                (all_below &
+                 ((load(&from.lmax[first]) < 0.0f) | solid_lanes(&from.solid[first], outside))));
+    }
     const uint32_t m = movemask(kept);
     if (m == 0) continue;
     for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
@@ -227,6 +258,7 @@ void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group)
       compress_lanes(to->data(), count, src->data(), first, m);
     compress_lanes(tri.data(), count, from.tri.data(), first, m);
     compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
+    compress_lanes(solid.data(), count, from.solid.data(), first, m);
     count += std::popcount(m);
   }
   read = end;
@@ -234,7 +266,8 @@ void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group)
 }
 
 void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const ItemBounds& bounds,
-                          const Vec3& p, const ShadowBoxCull* box, const uint32_t* rows) {
+                          const Vec3& p, const ShadowBoxCull* box, const uint32_t* rows,
+                          uint64_t outside) {
   ShadowCells cells;
   ShadowCells* want_cells = rows != nullptr && box != nullptr && box->grid_k > 0 ? &cells : nullptr;
   reserve(static_cast<size_t>(end - begin) + 2 * kLanes);
@@ -254,8 +287,10 @@ void CandidateBatch::keep(const CandidateBatch& from, int begin, int end, const 
     const vf side =
         load(&from.nx[first]) * px + load(&from.ny[first]) * py + load(&from.nz[first]) * pz - d;
     const vf tol = kPlaneRel * (load(&from.n1[first]) * p_inf + vmax(d, -d));
+    // And a face of a solid the sample lies outside of, seen strictly from behind.
     kept &= ~(((side > tol) & (load(&from.lmin[first]) > 0.0f)) |
-              ((side < -tol) & (load(&from.lmax[first]) < 0.0f)));
+              ((side < -tol) &
+               ((load(&from.lmax[first]) < 0.0f) | solid_lanes(&from.solid[first], outside))));
     if (box != nullptr && movemask(kept) != 0) {
       // setup_batch's shadow-box test, moved ahead of it with the same arithmetic: it rejects the
       // same triangles, only before their edge planes are built (dense meshes: most of them).
@@ -296,24 +331,39 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
            cz = r[8];
   // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a [Wang 2014 §4.2: "an edge plane is defined by a
   // triangle edge and the eye of the camera that computes the bitmask"].
-  vf nx[3], ny[3], nz[3];
-  nx[0] = ay * bz - az * by, ny[0] = az * bx - ax * bz, nz[0] = ax * by - ay * bx;
-  nx[1] = by * cz - bz * cy, ny[1] = bz * cx - bx * cz, nz[1] = bx * cy - by * cx;
-  nx[2] = cy * az - cz * ay, ny[2] = cz * ax - cx * az, nz[2] = cx * ay - cy * ax;
-  const vf det = ax * nx[1] + ay * ny[1] + az * nz[1];
+  // Each is computed from its two vertices in a canonical order (lexicographic) and then signed
+  // for this triangle's traversal, so the two triangles sharing an edge get exactly opposite
+  // lines: a sample on either side of it is covered by one of them, never by neither (the
+  // rasterization is watertight, as Embree's ray test is).
+  vf nx[3], ny[3], nz[3], sign[3];
+  const vf* const vx[3] = {&ax, &bx, &cx};
+  const vf* const vy[3] = {&ay, &by, &cy};
+  const vf* const vz[3] = {&az, &bz, &cz};
+  for (int m = 0; m < 3; ++m) {
+    const int e0 = m, e1 = (m + 1) % 3;
+    const vf ux = *vx[e0], uy = *vy[e0], uz = *vz[e0], wx = *vx[e1], wy = *vy[e1], wz = *vz[e1];
+    const vi before =
+        (ux < wx) | ((ux == wx) & ((uy < wy) | ((uy == wy) & (uz <= wz))));  // u first
+    const vf px0 = before ? ux : wx, py0 = before ? uy : wy, pz0 = before ? uz : wz;
+    const vf px1 = before ? wx : ux, py1 = before ? wy : uy, pz1 = before ? wz : uz;
+    nx[m] = py0 * pz1 - pz0 * py1, ny[m] = pz0 * px1 - px0 * pz1, nz[m] = px0 * py1 - py0 * px1;
+    sign[m] = before ? splat(1.0f) : splat(-1.0f);
+  }
+  const vf det = sign[1] * (ax * nx[1] + ay * ny[1] + az * nz[1]);  // a · (b × c)
   const vf s = det > 0.0f ? splat(1.0f) : splat(-1.0f);
   vi ok = det != 0.0f;
   vf A[4], B[4], C[4];
   for (int m = 0; m < 3; ++m) {
+    const vf sm = s * sign[m];
     if (light.axis_aligned) {
       // X − P = w + (u, v, 0).
-      A[m] = s * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
-      B[m] = s * nx[m];
-      C[m] = s * ny[m];
+      A[m] = sm * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
+      B[m] = sm * nx[m];
+      C[m] = sm * ny[m];
     } else {
-      A[m] = s * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
-      B[m] = s * (nx[m] * light.eu.x + ny[m] * light.eu.y + nz[m] * light.eu.z);
-      C[m] = s * (nx[m] * light.ev.x + ny[m] * light.ev.y + nz[m] * light.ev.z);
+      A[m] = sm * (nx[m] * light.w.x + ny[m] * light.w.y + nz[m] * light.w.z);
+      B[m] = sm * (nx[m] * light.eu.x + ny[m] * light.eu.y + nz[m] * light.eu.z);
+      C[m] = sm * (nx[m] * light.ev.x + ny[m] * light.ev.y + nz[m] * light.ev.z);
     }
   }
   // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|, i.e.

@@ -34,6 +34,7 @@ struct CandidateBatch {
   std::vector<float> nx, ny, nz, nd, n1, lmin, lmax;
   std::vector<uint32_t> tri;
   std::vector<uint32_t> opaque;  // 1: opaque material
+  std::vector<uint32_t> solid;   // gears/solids.hpp: the triangle's solid, or kNoSolid
   int count = 0;
   int padded = 0;
   int read = 0;  // list entries the last gather() read
@@ -50,14 +51,21 @@ struct CandidateBatch {
   /// arithmetic, so the set-up survivors (and so the masks) do not change.
   /// `rows` (with `box`, grid samples): the pixel's mask so far; candidates whose shadow box holds
   /// only samples already blocked there are dropped too (hidden_lanes).
+  /// `outside` (Solids::outside of p): the solids whose faces with p strictly on their negative
+  /// side are dropped too (gears/solids.hpp).
   void keep(const CandidateBatch& from, int begin, int end, const ItemBounds& pixel, const Vec3& p,
-            const ShadowBoxCull* box = nullptr, const uint32_t* rows = nullptr);
+            const ShadowBoxCull* box = nullptr, const uint32_t* rows = nullptr,
+            uint64_t outside = 0);
   /// The candidates of an item batch `from` that pass may_block() for `group` (the ItemBounds of
   /// some of the item's samples: depth cut and edge-angle slabs), in the same order, with every
   /// array (a batch keep() can cull from). Each sample's own slab test implies its group's (the
   /// bounds are min/max of the same float expressions), so keep() on this batch kept exactly what
   /// it kept on `from`.
-  void narrow(const CandidateBatch& from, const ItemBounds& group);
+  /// `points` (unmirrored light space, `outside`: the solids every one of them lies outside of):
+  /// also the separating-plane and solid tests of keep() for all of them at once, with twice
+  /// keep()'s tolerance, so that what this drops keep() drops for each of them.
+  void narrow(const CandidateBatch& from, const ItemBounds& group, const Vec3* points = nullptr,
+              int point_count = 0, uint64_t outside = 0);
   /// End of the prefix of an item batch whose triangles pass the depth cut `zmin <= zmax`: the
   /// gather keeps its cell list's (zmin, id) order, so a pixel's depth cut is a prefix too, and
   /// keep() need not scan beyond it (it would reject every lane there).

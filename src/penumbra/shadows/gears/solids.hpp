@@ -1,0 +1,43 @@
+// GEARS, beyond the paper: back-face culling on closed opaque meshes. A mesh component whose
+// directed edges cancel in pairs (every edge a→b matched by as many b→a: a closed, consistently
+// wound surface, non-manifold joins allowed) bounds a solid with an integer winding number w that
+// each transversal crossing changes by ±1 according to the side it crosses from. For a segment
+// from sample P to light point X with w(P) = w(X) = 0 — both outside the solid's bounding box —
+// the crossings sum to zero, so a segment that crosses the surface at all crosses some face from
+// that face's positive side: the faces that have P strictly on their negative side are never
+// needed to decide whether it is blocked, and the per-pixel and per-group culls drop them.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "penumbra/core/math.hpp"
+#include "penumbra/scene/scene.hpp"
+#include "penumbra/shadows/gears/assign.hpp"
+
+namespace penumbra::gears {
+
+inline constexpr int kMaxSolids = 64;             // the largest closed components, one bit each
+inline constexpr uint32_t kNoSolid = kMaxSolids;  // a triangle of no solid (never culled so)
+
+struct Solids {
+  std::vector<uint32_t> of_triangle;  // per soup triangle: its solid, or kNoSolid
+  std::vector<Vec3> lo, hi;           // per solid: its light-space box, widened
+  int count() const { return static_cast<int>(lo.size()); }
+  /// Bit s set: p (unmirrored light space) lies outside solid s's box, so w_s(p) = 0.
+  uint64_t outside(const Vec3& p) const {
+    uint64_t bits = 0;
+    for (int s = 0; s < count(); ++s)
+      bits |= uint64_t{p.x < lo[s].x || p.x > hi[s].x || p.y < lo[s].y || p.y > hi[s].y ||
+                       p.z < lo[s].z || p.z > hi[s].z}
+              << s;
+    return bits;
+  }
+};
+
+/// The closed components of the soup's opaque meshes (vertices welded by bit-identical world
+/// position), the kMaxSolids largest, whose boxes lie on one side of the light plane (every light
+/// point outside them). Boxes are widened by 10⁻⁴ of their extent and magnitude.
+Solids find_solids(const Scene& scene, const TriangleSoup& soup);
+
+}  // namespace penumbra::gears
