@@ -93,6 +93,7 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"group", "0"}},
                                                        {{"hidden_cull", "false"}},
                                                        {{"box_cull", "false"}},
+                                                       {{"solid_cull", "false"}},
                                                        {{"long_chunk", "1"}}}) {
     const MethodResult r = t.run("gears", opts, true);
     EXPECT_EQ(r.per_light[0].lit.pixels(), base.per_light[0].lit.pixels()) << opts.begin()->first;
