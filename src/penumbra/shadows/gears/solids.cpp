@@ -1,7 +1,5 @@
 #include "penumbra/shadows/gears/solids.hpp"
 
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -17,31 +15,81 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
   return x;
 }
 
+uint64_t mix(uint64_t x) {  // splitmix64's finalizer
+  x ^= x >> 30, x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27, x *= 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+/// Open-addressing table from nonzero 64-bit keys to small integers (linear probing). `local`:
+/// keys (a << 32 | b) start probing at 8a, so that edges of nearby vertices share cache lines
+/// (a mesh's triangles list nearby vertices together; hashed slots missed the cache at each
+/// step). A vertex is the smaller end of at most its valence's edges, about 6: 8 slots each keep
+/// the clusters short.
+class KeyTable {
+ public:
+  KeyTable(size_t most, bool local) : local_(local) {
+    size_t size = 16;
+    while (size < 2 * most) size *= 2;
+    keys_.assign(size, 0);
+    values_.assign(size, 0);
+    mask_ = size - 1;
+  }
+  /// The slot of `key`, inserted (value 0) if new; `fresh` tells which.
+  int32_t& at(uint64_t key, bool& fresh) {
+    size_t i = (local_ ? (key >> 32) << 3 : mix(key)) & mask_;
+    while (keys_[i] != 0 && keys_[i] != key) i = (i + 1) & mask_;
+    fresh = keys_[i] == 0;
+    keys_[i] = key;
+    return values_[i];
+  }
+  template <class F>
+  void for_each(F&& f) const {
+    for (size_t i = 0; i < keys_.size(); ++i)
+      if (keys_[i] != 0) f(keys_[i], values_[i]);
+  }
+
+ private:
+  std::vector<uint64_t> keys_;
+  std::vector<int32_t> values_;
+  size_t mask_ = 0;
+  bool local_ = false;
+};
+
 }  // namespace
 
 Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   Solids out;
   const size_t n = soup.size();
   out.of_triangle.assign(n, kNoSolid);
-  // Welded vertex ids: per mesh, its vertices sorted by position bits.
+  // Welded vertex ids: per mesh, the first vertex at each position (bit-identical coordinates).
   std::vector<std::vector<uint32_t>> weld(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     if (!mesh.casts_shadows || !scene.material_of(mesh).is_opaque()) continue;
     const size_t nv = mesh.positions.size();
-    auto key = [&](uint32_t v) {
-      std::array<uint32_t, 3> k;
-      std::memcpy(k.data(), &mesh.positions[v], sizeof(k));
-      return k;
-    };
-    std::vector<uint32_t> order(nv);
-    std::iota(order.begin(), order.end(), 0u);
-    tbb::parallel_sort(order.begin(), order.end(),
-                       [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-    weld[m].assign(nv, 0);
-    for (size_t i = 0; i < nv; ++i)
-      weld[m][order[i]] =
-          i > 0 && key(order[i]) == key(order[i - 1]) ? weld[m][order[i - 1]] : order[i];
+    weld[m].resize(nv);
+    // Buckets by a hash of the position; equal positions are then compared exactly.
+    KeyTable first(nv, false);
+    std::vector<uint32_t> next(nv, UINT32_MAX);  // chain of vertices sharing a hash
+    for (uint32_t v = 0; v < nv; ++v) {
+      uint32_t bits[3];
+      std::memcpy(bits, &mesh.positions[v], sizeof(bits));
+      const uint64_t key =
+          mix(uint64_t{bits[0]} << 32 | bits[1]) ^ mix(uint64_t{bits[2]} + 0x9e3779b97f4a7c15ull);
+      bool fresh = false;
+      int32_t& head = first.at(key | 1, fresh);
+      uint32_t w = fresh ? UINT32_MAX : static_cast<uint32_t>(head);
+      for (; w != UINT32_MAX; w = next[w])
+        if (std::memcmp(&mesh.positions[w], &mesh.positions[v], sizeof(Vec3)) == 0) break;
+      if (w != UINT32_MAX) {
+        weld[m][v] = w;
+      } else {
+        weld[m][v] = v;
+        next[v] = fresh ? UINT32_MAX : static_cast<uint32_t>(head);
+        head = static_cast<int32_t>(v);
+      }
+    }
   }
   // Components: triangles joined by shared welded vertices (union-find over vertex ids, offset per
   // mesh), then the directed-edge balance of each.
@@ -62,33 +110,28 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
       if (a != b) parent[b] = a;
     }
   }
-  struct Edge {
-    uint64_t key;  // (min id << 32) | max id
-    int32_t sign;  // +1: traversed min → max
-    uint32_t root;
-  };
-  std::vector<Edge> edges;
-  edges.reserve(3 * n);
   std::vector<uint32_t> root_of(n, kNoSolid);
+  size_t edge_count = 0;
   for (size_t t = 0; t < n; ++t) {
     if (!soup.opaque[t] || weld[soup.mesh[t]].empty()) continue;
     root_of[t] = find_root(parent, vertex_id(t, 0));
+    edge_count += 3;
+  }
+  // Per undirected edge (welded ids, +1 so no key is 0), the sum of its traversals' signs.
+  KeyTable balance(std::max<size_t>(edge_count, 4 * parent.size() + 32), true);
+  for (size_t t = 0; t < n; ++t) {
+    if (root_of[t] == kNoSolid) continue;
     for (int c = 0; c < 3; ++c) {
       const uint64_t a = vertex_id(t, c), b = vertex_id(t, (c + 1) % 3);
       if (a == b) continue;
-      edges.push_back({std::min(a, b) << 32 | std::max(a, b), a < b ? 1 : -1, root_of[t]});
+      bool fresh = false;
+      balance.at((std::min(a, b) << 32 | std::max(a, b)) + 1, fresh) += a < b ? 1 : -1;
     }
   }
-  tbb::parallel_sort(edges.begin(), edges.end(),
-                     [](const Edge& x, const Edge& y) { return x.key < y.key; });
   std::vector<uint8_t> open(parent.size(), 0);
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    int sum = 0;
-    for (; j < edges.size() && edges[j].key == edges[i].key; ++j) sum += edges[j].sign;
-    if (sum != 0) open[edges[i].root] = 1;
-    i = j;
-  }
+  balance.for_each([&](uint64_t key, int32_t sum) {
+    if (sum != 0) open[find_root(parent, static_cast<uint32_t>((key - 1) >> 32))] = 1;
+  });
   // Closed components by size; each with its light-space box.
   std::vector<uint32_t> size(parent.size(), 0);
   std::vector<Vec3> lo(parent.size(), Vec3(kInfinity)), hi(parent.size(), Vec3(-kInfinity));
