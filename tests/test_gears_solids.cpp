@@ -59,6 +59,11 @@ TEST(GearsSolids, EachClosedSphereIsOneSolidAndTheGroundNone) {
   // A sample between the spheres is outside every box; one at a sphere's centre inside its own.
   EXPECT_EQ(solids.outside(Vec3(0.2f, 0.2f, 3.0f - 0.8f)), (uint64_t{1} << 27) - 1);
   EXPECT_EQ(std::popcount(solids.outside(Vec3(0.0f, 0.0f, 3.0f - 1.0f))), 26);
+  // Inside the centre sphere's box but beside the sphere, away from the light of every face over
+  // it (a box corner, deeper than the sphere there): certified by the depth map.
+  EXPECT_EQ(std::popcount(solids.outside(Vec3(0.145f, 0.145f, 3.0f - 0.86f))), 27);
+  // Inside the box just above the sphere's top: the ray away from the light meets the sphere.
+  EXPECT_EQ(std::popcount(solids.outside(Vec3(0.0f, 0.0f, 3.0f - 1.148f))), 26);
 }
 
 TEST(GearsSolids, OpenOrInconsistentlyWoundComponentsAreNotSolids) {
@@ -177,6 +182,25 @@ TEST(GearsSolids, FramesKeepRaytraceMasksAndSetUpLess) {
   const double ratio = on.counters.at("assignments_total") / off.counters.at("assignments_total");
   std::printf("set up with the solid cull / without: %.3f\n", ratio);
   EXPECT_LT(ratio, 0.75);
+  EXPECT_EQ(on.lit.pixels(), off.lit.pixels());
+}
+
+/// A closed sphere resting on the ground (touching it, as a model's feet do): ground pixels under
+/// it are inside its box but certified outside the solid by its depth map; the masks keep
+/// raytrace's, with fewer triangles set up than without the cull (measured 0.287).
+TEST(GearsSolids, SolidStandingOnTheGroundKeepsRaytraceMasks) {
+  Scene s = make_builtin_scene("quad");
+  Mesh ball = make_sphere(Vec3(0.0f, 0.35f, 0.0f), 0.35f, 16, 32);
+  ball.material = s.meshes.back().material;
+  s.meshes.back() = ball;  // replaces the occluder quad
+  const auto t = make_test_frame(std::move(s), 64, 64, grid_samples(16));
+  const test::MaskAgreement agree = test::compare_masks(t, "gears");
+  EXPECT_EQ(agree.unexplained, 0u);
+  const Visibility on = t.run("gears").per_light[0];
+  const Visibility off = t.run("gears", {{"solid_cull", "false"}}).per_light[0];
+  const double ratio = on.counters.at("assignments_total") / off.counters.at("assignments_total");
+  std::printf("sphere on the ground: set up with the cull / without %.3f\n", ratio);
+  EXPECT_LT(ratio, 0.35);
   EXPECT_EQ(on.lit.pixels(), off.lit.pixels());
 }
 

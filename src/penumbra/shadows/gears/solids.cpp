@@ -163,6 +163,24 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   }
   for (size_t t = 0; t < n; ++t)
     if (root_of[t] != kNoSolid) out.of_triangle[t] = solid_of_root[root_of[t]];
+  // Depth maps: each face's xy box (widened past the cell rounding) over the cells it meets.
+  constexpr int N = Solids::kMapSize;
+  out.deepest.assign(roots.size() * N * N, -kInfinity);
+  for (size_t t = 0; t < n; ++t) {
+    const uint32_t s = out.of_triangle[t];
+    if (s == kNoSolid) continue;
+    Vec3 tlo(kInfinity), thi(-kInfinity);
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 q(soup.x[c][t], soup.y[c][t], soup.z[c][t]);
+      tlo = glm::min(tlo, q), thi = glm::max(thi, q);
+    }
+    const Vec3 slack = 1e-4f * (out.hi[s] - out.lo[s]);
+    const int c0 = out.cell(s, tlo - slack), c1 = out.cell(s, thi + slack);
+    const float z = thi.z + slack.z + 1e-4f * std::abs(thi.z);
+    float* map = out.deepest.data() + static_cast<size_t>(s) * N * N;
+    for (int j = c0 / N; j <= c1 / N; ++j)
+      for (int i = c0 % N; i <= c1 % N; ++i) map[j * N + i] = std::max(map[j * N + i], z);
+  }
   return out;
 }
 

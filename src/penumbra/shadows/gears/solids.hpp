@@ -6,8 +6,12 @@
 // the crossings sum to zero, so a segment that crosses the surface at all crosses some face from
 // that face's positive side: the faces that have P strictly on their negative side are never
 // needed to decide whether it is blocked, and the per-pixel and per-group culls drop them.
+// w(P) = 0 is certified for P outside the box, and for P inside it when the ray from P away from
+// the light meets no face of the solid: every face over P's cell of a depth map of the solid lies
+// nearer to the light than P (the ground under a model standing on it).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -21,17 +25,32 @@ inline constexpr int kMaxSolids = 64;             // the largest closed componen
 inline constexpr uint32_t kNoSolid = kMaxSolids;  // a triangle of no solid (never culled so)
 
 struct Solids {
-  std::vector<uint32_t> of_triangle;  // per soup triangle: its solid, or kNoSolid
-  std::vector<Vec3> lo, hi;           // per solid: its light-space box, widened
+  static constexpr int kMapSize = 64;  // depth-map cells per side, over each solid's box
+  std::vector<uint32_t> of_triangle;   // per soup triangle: its solid, or kNoSolid
+  std::vector<Vec3> lo, hi;            // per solid: its light-space box, widened
+  // Per solid, kMapSize² cells over its box in x and y: the deepest z of the faces whose widened
+  // xy box meets the cell (−∞: none), widened.
+  std::vector<float> deepest;
   int count() const { return static_cast<int>(lo.size()); }
-  /// Bit s set: p (unmirrored light space) lies outside solid s's box, so w_s(p) = 0.
+  /// Bit s set: w_s(p) = 0 is certified for p (unmirrored light space): outside solid s's box, or
+  /// deeper than every face of s over p's depth-map cell.
   uint64_t outside(const Vec3& p) const {
     uint64_t bits = 0;
-    for (int s = 0; s < count(); ++s)
-      bits |= uint64_t{p.x < lo[s].x || p.x > hi[s].x || p.y < lo[s].y || p.y > hi[s].y ||
-                       p.z < lo[s].z || p.z > hi[s].z}
-              << s;
+    for (int s = 0; s < count(); ++s) {
+      bool out = p.x < lo[s].x || p.x > hi[s].x || p.y < lo[s].y || p.y > hi[s].y ||
+                 p.z < lo[s].z || p.z > hi[s].z;
+      if (!out) out = p.z > deepest[static_cast<size_t>(s) * kMapSize * kMapSize + cell(s, p)];
+      bits |= uint64_t{out} << s;
+    }
     return bits;
+  }
+  /// The depth-map cell of a point inside solid s's box (clamped).
+  int cell(int s, const Vec3& p) const {
+    auto index = [&](float x, float x0, float x1) {
+      const float f = (x - x0) / (x1 - x0) * static_cast<float>(kMapSize);
+      return std::clamp(static_cast<int>(f), 0, kMapSize - 1);  // f ≥ 0 inside the box
+    };
+    return index(p.y, lo[s].y, hi[s].y) * kMapSize + index(p.x, lo[s].x, hi[s].x);
   }
 };
 
