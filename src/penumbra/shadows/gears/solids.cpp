@@ -118,7 +118,7 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
     edge_count += 3;
   }
   // Per undirected edge (welded ids, +1 so no key is 0), the sum of its traversals' signs.
-  KeyTable balance(std::max<size_t>(edge_count, 4 * parent.size() + 32), true);
+  KeyTable balance(std::max<size_t>(edge_count / 2, 4 * parent.size() + 32), true);
   for (size_t t = 0; t < n; ++t) {
     if (root_of[t] == kNoSolid) continue;
     for (int c = 0; c < 3; ++c) {
