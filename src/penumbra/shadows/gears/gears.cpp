@@ -61,6 +61,7 @@ struct Scratch {
   std::vector<float> ix, iy, iz;  // the work item's samples, for its cull bounds
   std::vector<float> gx, gy, gz;  // one group's
   std::vector<Vec3> gp;           // one group's samples (unmirrored light space)
+  std::vector<uint64_t> outside;  // the item's samples: Solids::outside
   std::vector<uint64_t> cover, blocked;
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
 };
@@ -335,16 +336,21 @@ class Gears final : public ShadowMethod {
               const Item& item = items[it];
               // Samples are sorted by depth within the cell, so an item spans few depths.
               const int m = static_cast<int>(item.end - item.begin);
-              sc.ix.resize(m), sc.iy.resize(m), sc.iz.resize(m);
+              sc.ix.resize(m), sc.iy.resize(m), sc.iz.resize(m), sc.outside.resize(m);
+              SampleBox item_box{Vec3(kInfinity), Vec3(-kInfinity), ~uint64_t{0}};
               for (int i = 0; i < m; ++i) {
                 const Vec3& q = p_light[cells.sorted[item.begin + i].item];
                 sc.ix[i] = q.x, sc.iy[i] = q.y, sc.iz[i] = cells.sample_z[item.begin + i];
+                sc.outside[i] = solids.outside(q);
+                item_box.lo = glm::min(item_box.lo, q), item_box.hi = glm::max(item_box.hi, q);
+                item_box.outside &= sc.outside[i];
               }
               const ItemBounds bounds =
                   item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
               sc.batch.gather(packed.data(), planes.data(),
                               table.pairs.data() + table.begin[item.cell],
-                              table.pairs.data() + table.end[item.cell], bounds);
+                              table.pairs.data() + table.end[item.cell], bounds,
+                              solids.count() > 0 ? &item_box : nullptr);
               l_read += sc.batch.read;
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);
@@ -376,7 +382,7 @@ class Gears final : public ShadowMethod {
                   sc.gp.resize(gm);
                   for (int j = 0; j < gm; ++j) {
                     sc.gp[j] = p_light[cells.sorted[item.begin + sc.group_order[g0 + j]].item];
-                    outside &= solids.outside(sc.gp[j]);
+                    outside &= sc.outside[sc.group_order[g0 + j]];
                   }
                   sc.group_batch.narrow(
                       sc.batch, item_bounds(flat, sc.gx.data(), sc.gy.data(), sc.gz.data(), gm),
@@ -582,7 +588,7 @@ class Gears final : public ShadowMethod {
                     constexpr int kChunk = 8 * kLanes;
                     const ShadowBoxCull box{lo, hi, use_rows ? k : 0};
                     const ShadowBoxCull* box_cull = pl.axis_aligned ? &box : nullptr;
-                    const uint64_t outside = solids.outside(p);
+                    const uint64_t outside = sc.outside[sc.group_order[oi]];
                     // The item batch is in depth order: this pixel's depth cut is a prefix of it
                     // (samples nearer than the item's deepest skip the tail).
                     const int scan_end = from->depth_prefix(own.zmax);

@@ -160,7 +160,8 @@ void CandidateBatch::pad() {
 }
 
 void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* planes,
-                            const CellPair* begin, const CellPair* end, const ItemBounds& item) {
+                            const CellPair* begin, const CellPair* end, const ItemBounds& item,
+                            const SampleBox* samples) {
   // The list is sorted by zmin: the depth cut keeps a prefix.
   end = std::partition_point(
       begin, end, [&](const CellPair& pair) { return tris[pair.item].zmin <= item.zmax; });
@@ -185,12 +186,34 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
     count += may_block(p, item);
   }
   // Planes only for the kept ones (a second cache line per triangle, read once per item).
+  const uint64_t outside = samples != nullptr ? samples->outside : 0;
+  float box_inf = 0.0f;
+  if (outside != 0)
+    for (int a = 0; a < 3; ++a)
+      box_inf = std::max({box_inf, std::abs(samples->lo[a]), std::abs(samples->hi[a])});
+  int kept = 0;
   for (int i = 0; i < count; ++i) {
     if (i + kAhead < count) __builtin_prefetch(&planes[tri[i + kAhead]]);
     const TrianglePlane& q = planes[tri[i]];
-    nx[i] = q.nx, ny[i] = q.ny, nz[i] = q.nz, nd[i] = q.d, n1[i] = q.n1;
-    lmin[i] = q.lmin, lmax[i] = q.lmax;
+    if (solid[i] < kNoSolid && ((outside >> solid[i]) & 1u)) {
+      // The most positive side over the box: every sample strictly behind this face of a solid
+      // they are all outside of.
+      const Vec3 &lo = samples->lo, &hi = samples->hi;
+      const float most = std::max(q.nx * lo.x, q.nx * hi.x) + std::max(q.ny * lo.y, q.ny * hi.y) +
+                         std::max(q.nz * lo.z, q.nz * hi.z) - q.d;
+      if (most < -2.0f * kPlaneRel * (q.n1 * box_inf + std::abs(q.d))) continue;
+    }
+    if (kept != i) {
+      for (auto& a : v) a[kept] = a[i];
+      zmin[kept] = zmin[i], hx0[kept] = hx0[i], hx1[kept] = hx1[i];
+      hy0[kept] = hy0[i], hy1[kept] = hy1[i];
+      tri[kept] = tri[i], opaque[kept] = opaque[i], solid[kept] = solid[i];
+    }
+    nx[kept] = q.nx, ny[kept] = q.ny, nz[kept] = q.nz, nd[kept] = q.d, n1[kept] = q.n1;
+    lmin[kept] = q.lmin, lmax[kept] = q.lmax;
+    ++kept;
   }
+  count = kept;
   pad();
 }
 

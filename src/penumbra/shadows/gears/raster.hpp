@@ -26,6 +26,13 @@ struct ShadowBoxCull {
   int grid_k = 0;
 };
 
+/// Some samples' box (unmirrored light space) and the solids (gears/solids.hpp) they all lie
+/// outside of.
+struct SampleBox {
+  Vec3 lo{0.0f}, hi{0.0f};
+  uint64_t outside = 0;
+};
+
 /// Candidate triangles of one work item (or of one pixel), in light space (SoA, padded to 16).
 struct CandidateBatch {
   std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
@@ -40,8 +47,11 @@ struct CandidateBatch {
   int read = 0;  // list entries the last gather() read
   /// Gathers the candidates of [begin, end) that may block one of the work item's samples
   /// (gears/item_cull.hpp: depth cut and edge-angle slabs).
+  /// `samples` (their box and the solids they all lie outside of): also the solid test of
+  /// keep() for the whole box, with twice its tolerance (the samples' own tests then drop all
+  /// that this drops).
   void gather(const PackedTriangle* tris, const TrianglePlane* planes, const CellPair* begin,
-              const CellPair* end, const ItemBounds& item);
+              const CellPair* end, const ItemBounds& item, const SampleBox* samples = nullptr);
   /// The candidates from[begin, end) (a work item's) that may block sample `p` (unmirrored light
   /// space; `pixel`: its ItemBounds): the item's tests for this one sample and the
   /// separating-plane test (TrianglePlane), in the same order. A pixel sets up only what this
