@@ -6,6 +6,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "penumbra/core/parallel.hpp"
+
 namespace penumbra::gears {
 
 namespace {
@@ -21,14 +23,10 @@ uint64_t mix(uint64_t x) {  // splitmix64's finalizer
   return x ^ (x >> 31);
 }
 
-/// Open-addressing table from nonzero 64-bit keys to small integers (linear probing). `local`:
-/// keys (a << 32 | b) start probing at 8a, so that edges of nearby vertices share cache lines
-/// (a mesh's triangles list nearby vertices together; hashed slots missed the cache at each
-/// step). A vertex is the smaller end of at most its valence's edges, about 6: 8 slots each keep
-/// the clusters short.
+/// Open-addressing table from nonzero 64-bit keys to small integers (linear probing).
 class KeyTable {
  public:
-  KeyTable(size_t most, bool local) : local_(local) {
+  explicit KeyTable(size_t most) {
     size_t size = 16;
     while (size < 2 * most) size *= 2;
     keys_.assign(size, 0);
@@ -37,23 +35,17 @@ class KeyTable {
   }
   /// The slot of `key`, inserted (value 0) if new; `fresh` tells which.
   int32_t& at(uint64_t key, bool& fresh) {
-    size_t i = (local_ ? (key >> 32) << 3 : mix(key)) & mask_;
+    size_t i = mix(key) & mask_;
     while (keys_[i] != 0 && keys_[i] != key) i = (i + 1) & mask_;
     fresh = keys_[i] == 0;
     keys_[i] = key;
     return values_[i];
-  }
-  template <class F>
-  void for_each(F&& f) const {
-    for (size_t i = 0; i < keys_.size(); ++i)
-      if (keys_[i] != 0) f(keys_[i], values_[i]);
   }
 
  private:
   std::vector<uint64_t> keys_;
   std::vector<int32_t> values_;
   size_t mask_ = 0;
-  bool local_ = false;
 };
 
 }  // namespace
@@ -70,7 +62,7 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
     const size_t nv = mesh.positions.size();
     weld[m].resize(nv);
     // Buckets by a hash of the position; equal positions are then compared exactly.
-    KeyTable first(nv, false);
+    KeyTable first(nv);
     std::vector<uint32_t> next(nv, UINT32_MAX);  // chain of vertices sharing a hash
     for (uint32_t v = 0; v < nv; ++v) {
       uint32_t bits[3];
@@ -110,28 +102,51 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
       if (a != b) parent[b] = a;
     }
   }
+  // Welded ids of every usable triangle's corners, its component.
   std::vector<uint32_t> root_of(n, kNoSolid);
-  size_t edge_count = 0;
+  std::vector<std::array<uint32_t, 3>> ids(n);
   for (size_t t = 0; t < n; ++t) {
     if (!soup.opaque[t] || weld[soup.mesh[t]].empty()) continue;
-    root_of[t] = find_root(parent, vertex_id(t, 0));
-    edge_count += 3;
+    ids[t] = {vertex_id(t, 0), vertex_id(t, 1), vertex_id(t, 2)};
+    root_of[t] = find_root(parent, ids[t][0]);
   }
-  // Per undirected edge (welded ids, +1 so no key is 0), the sum of its traversals' signs.
-  KeyTable balance(std::max<size_t>(edge_count / 2, 4 * parent.size() + 32), true);
-  for (size_t t = 0; t < n; ++t) {
-    if (root_of[t] == kNoSolid) continue;
-    for (int c = 0; c < 3; ++c) {
-      const uint64_t a = vertex_id(t, c), b = vertex_id(t, (c + 1) % 3);
-      if (a == b) continue;
-      bool fresh = false;
-      balance.at((std::min(a, b) << 32 | std::max(a, b)) + 1, fresh) += a < b ? 1 : -1;
+  // Each vertex's directed edges out and in (CSR): the component is closed iff at every vertex
+  // the two neighbour lists are equal as multisets (each a→b matched by as many b→a).
+  const size_t nv = parent.size();
+  std::vector<uint32_t> out_start(nv + 1, 0), in_start(nv + 1, 0);
+  auto for_each_edge = [&](auto&& f) {
+    for (size_t t = 0; t < n; ++t)
+      if (root_of[t] != kNoSolid)
+        for (int c = 0; c < 3; ++c)
+          if (ids[t][c] != ids[t][(c + 1) % 3]) f(ids[t][c], ids[t][(c + 1) % 3]);
+  };
+  for_each_edge([&](uint32_t a, uint32_t b) { ++out_start[a + 1], ++in_start[b + 1]; });
+  for (size_t v = 0; v < nv; ++v) out_start[v + 1] += out_start[v], in_start[v + 1] += in_start[v];
+  std::vector<uint32_t> out_nbr(out_start[nv]), in_nbr(in_start[nv]);
+  {
+    std::vector<uint32_t> out_at(out_start.begin(), out_start.end() - 1);
+    std::vector<uint32_t> in_at(in_start.begin(), in_start.end() - 1);
+    for_each_edge(
+        [&](uint32_t a, uint32_t b) { out_nbr[out_at[a]++] = b, in_nbr[in_at[b]++] = a; });
+  }
+  std::vector<uint8_t> unbalanced(nv, 0);
+  parallel_chunks(nv, 4096, [&](size_t b, size_t e) {
+    for (size_t v = b; v < e; ++v) {
+      uint32_t* o0 = out_nbr.data() + out_start[v];
+      uint32_t* o1 = out_nbr.data() + out_start[v + 1];
+      uint32_t* i0 = in_nbr.data() + in_start[v];
+      uint32_t* i1 = in_nbr.data() + in_start[v + 1];
+      if (o1 - o0 != i1 - i0) {
+        unbalanced[v] = 1;
+        continue;
+      }
+      std::sort(o0, o1), std::sort(i0, i1);
+      unbalanced[v] = !std::equal(o0, o1, i0);
     }
-  }
-  std::vector<uint8_t> open(parent.size(), 0);
-  balance.for_each([&](uint64_t key, int32_t sum) {
-    if (sum != 0) open[find_root(parent, static_cast<uint32_t>((key - 1) >> 32))] = 1;
   });
+  std::vector<uint8_t> open(nv, 0);
+  for (uint32_t v = 0; v < nv; ++v)
+    if (unbalanced[v]) open[find_root(parent, v)] = 1;
   // Closed components by size; each with its light-space box.
   std::vector<uint32_t> size(parent.size(), 0);
   std::vector<Vec3> lo(parent.size(), Vec3(kInfinity)), hi(parent.size(), Vec3(-kInfinity));
