@@ -61,25 +61,39 @@ bool alpha_blocks(uint t, float la[4], float lb[4], float lc[4], int s) {
 float vmax(float a, float b) { return a > b ? a : b; }
 float vmin(float a, float b) { return a < b ? a : b; }
 
+/// u × w with u, w in lexicographic order; `sgn` = +1 when that order is (u, w), else −1.
+vec3 edge_normal(vec3 u, vec3 w, out float sgn) {
+  const bool before = u.x < w.x || (u.x == w.x && (u.y < w.y || (u.y == w.y && u.z <= w.z)));
+  const vec3 p0 = before ? u : w, p1 = before ? w : u;
+  sgn = before ? 1.0 : -1.0;
+  precise vec3 r = vec3(p0.y * p1.z - p0.z * p1.y, p0.z * p1.x - p0.x * p1.z,
+                        p0.x * p1.y - p0.y * p1.x);
+  return r;
+}
+
 /// ORs triangle t's coverage of the k×k samples into rows; false when it covers nothing.
 bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint rows[32]) {
   const float kf = float(k);
   precise vec3 A = pc.tris.v[3u * t].xyz - p;
   precise vec3 B = pc.tris.v[3u * t + 1u].xyz - p;
   precise vec3 C = pc.tris.v[3u * t + 2u].xyz - p;
-  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a.
+  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a, each from its two vertices in a canonical
+  // (lexicographic) order and then signed for this triangle, so that two triangles sharing an
+  // edge get exactly opposite lines (watertight, as on the CPU).
   precise vec3 n[3];
-  n[0] = vec3(A.y * B.z - A.z * B.y, A.z * B.x - A.x * B.z, A.x * B.y - A.y * B.x);
-  n[1] = vec3(B.y * C.z - B.z * C.y, B.z * C.x - B.x * C.z, B.x * C.y - B.y * C.x);
-  n[2] = vec3(C.y * A.z - C.z * A.y, C.z * A.x - C.x * A.z, C.x * A.y - C.y * A.x);
-  precise float det = A.x * n[1].x + A.y * n[1].y + A.z * n[1].z;
+  float sgn[3];
+  n[0] = edge_normal(A, B, sgn[0]);
+  n[1] = edge_normal(B, C, sgn[1]);
+  n[2] = edge_normal(C, A, sgn[2]);
+  precise float det = sgn[1] * (A.x * n[1].x + A.y * n[1].y + A.z * n[1].z);
   if (det == 0.0) return false;
   const float s = det > 0.0 ? 1.0 : -1.0;
   precise float la[4], lb[4], lc[4];
   [[unroll]] for (int m = 0; m < 3; ++m) {
-    la[m] = s * (n[m].x * w.x + n[m].y * w.y + n[m].z * w.z);
-    lb[m] = s * (n[m].x * eu.x + n[m].y * eu.y + n[m].z * eu.z);
-    lc[m] = s * (n[m].x * ev.x + n[m].y * ev.y + n[m].z * ev.z);
+    const float sm = s * sgn[m];
+    la[m] = sm * (n[m].x * w.x + n[m].y * w.y + n[m].z * w.z);
+    lb[m] = sm * (n[m].x * eu.x + n[m].y * eu.y + n[m].z * eu.z);
+    lc[m] = sm * (n[m].x * ev.x + n[m].y * ev.y + n[m].z * ev.z);
   }
   // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|.
   la[3] = la[0] + la[1] + la[2] - s * det;
