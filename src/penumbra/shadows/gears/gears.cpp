@@ -337,20 +337,28 @@ class Gears final : public ShadowMethod {
               // Samples are sorted by depth within the cell, so an item spans few depths.
               const int m = static_cast<int>(item.end - item.begin);
               sc.ix.resize(m), sc.iy.resize(m), sc.iz.resize(m), sc.outside.resize(m);
-              SampleBox item_box{Vec3(kInfinity), Vec3(-kInfinity), ~uint64_t{0}};
               for (int i = 0; i < m; ++i) {
                 const Vec3& q = p_light[cells.sorted[item.begin + i].item];
                 sc.ix[i] = q.x, sc.iy[i] = q.y, sc.iz[i] = cells.sample_z[item.begin + i];
-                sc.outside[i] = solids.outside(q);
-                item_box.lo = glm::min(item_box.lo, q), item_box.hi = glm::max(item_box.hi, q);
-                item_box.outside &= sc.outside[i];
               }
               const ItemBounds bounds =
                   item_bounds(flat, sc.ix.data(), sc.iy.data(), sc.iz.data(), m);
               sc.batch.gather(packed.data(), planes.data(),
                               table.pairs.data() + table.begin[item.cell],
-                              table.pairs.data() + table.end[item.cell], bounds,
-                              solids.count() > 0 ? &item_box : nullptr);
+                              table.pairs.data() + table.end[item.cell], bounds);
+              if (solids.count() > 0 && sc.batch.count > 0) {
+                // Which solids each sample is outside of; the faces all of them see from behind.
+                SampleBox item_box{Vec3(kInfinity), Vec3(-kInfinity), ~uint64_t{0}};
+                for (int i = 0; i < m; ++i) {
+                  const Vec3& q = p_light[cells.sorted[item.begin + i].item];
+                  sc.outside[i] = solids.outside(q);
+                  item_box.lo = glm::min(item_box.lo, q), item_box.hi = glm::max(item_box.hi, q);
+                  item_box.outside &= sc.outside[i];
+                }
+                sc.batch.drop_solid_back_faces(item_box);
+              } else {
+                std::fill(sc.outside.begin(), sc.outside.end(), uint64_t{0});
+              }
               l_read += sc.batch.read;
               l_grid +=
                   uint64_t{table.end[item.cell] - table.begin[item.cell]} * (item.end - item.begin);

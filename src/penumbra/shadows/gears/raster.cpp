@@ -160,8 +160,7 @@ void CandidateBatch::pad() {
 }
 
 void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* planes,
-                            const CellPair* begin, const CellPair* end, const ItemBounds& item,
-                            const SampleBox* samples) {
+                            const CellPair* begin, const CellPair* end, const ItemBounds& item) {
   // The list is sorted by zmin: the depth cut keeps a prefix.
   end = std::partition_point(
       begin, end, [&](const CellPair& pair) { return tris[pair.item].zmin <= item.zmax; });
@@ -186,34 +185,12 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
     count += may_block(p, item);
   }
   // Planes only for the kept ones (a second cache line per triangle, read once per item).
-  const uint64_t outside = samples != nullptr ? samples->outside : 0;
-  float box_inf = 0.0f;
-  if (outside != 0)
-    for (int a = 0; a < 3; ++a)
-      box_inf = std::max({box_inf, std::abs(samples->lo[a]), std::abs(samples->hi[a])});
-  int kept = 0;
   for (int i = 0; i < count; ++i) {
     if (i + kAhead < count) __builtin_prefetch(&planes[tri[i + kAhead]]);
     const TrianglePlane& q = planes[tri[i]];
-    if (solid[i] < kNoSolid && ((outside >> solid[i]) & 1u)) {
-      // The most positive side over the box: every sample strictly behind this face of a solid
-      // they are all outside of.
-      const Vec3 &lo = samples->lo, &hi = samples->hi;
-      const float most = std::max(q.nx * lo.x, q.nx * hi.x) + std::max(q.ny * lo.y, q.ny * hi.y) +
-                         std::max(q.nz * lo.z, q.nz * hi.z) - q.d;
-      if (most < -2.0f * kPlaneRel * (q.n1 * box_inf + std::abs(q.d))) continue;
-    }
-    if (kept != i) {
-      for (auto& a : v) a[kept] = a[i];
-      zmin[kept] = zmin[i], hx0[kept] = hx0[i], hx1[kept] = hx1[i];
-      hy0[kept] = hy0[i], hy1[kept] = hy1[i];
-      tri[kept] = tri[i], opaque[kept] = opaque[i], solid[kept] = solid[i];
-    }
-    nx[kept] = q.nx, ny[kept] = q.ny, nz[kept] = q.nz, nd[kept] = q.d, n1[kept] = q.n1;
-    lmin[kept] = q.lmin, lmax[kept] = q.lmax;
-    ++kept;
+    nx[i] = q.nx, ny[i] = q.ny, nz[i] = q.nz, nd[i] = q.d, n1[i] = q.n1;
+    lmin[i] = q.lmin, lmax[i] = q.lmax;
   }
-  count = kept;
   pad();
 }
 
@@ -263,28 +240,54 @@ void CandidateBatch::narrow(const CandidateBatch& from, const ItemBounds& group,
                 (all_below &
                  ((load(&from.lmax[first]) < 0.0f) | solid_lanes(&from.solid[first], outside))));
     }
-    const uint32_t m = movemask(kept);
-    if (m == 0) continue;
-    for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
-    for (auto [to, src] : {std::pair{&zmin, &from.zmin},
-                           {&hx0, &from.hx0},
-                           {&hx1, &from.hx1},
-                           {&hy0, &from.hy0},
-                           {&hy1, &from.hy1},
-                           {&nx, &from.nx},
-                           {&ny, &from.ny},
-                           {&nz, &from.nz},
-                           {&nd, &from.nd},
-                           {&n1, &from.n1},
-                           {&lmin, &from.lmin},
-                           {&lmax, &from.lmax}})
-      compress_lanes(to->data(), count, src->data(), first, m);
-    compress_lanes(tri.data(), count, from.tri.data(), first, m);
-    compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
-    compress_lanes(solid.data(), count, from.solid.data(), first, m);
-    count += std::popcount(m);
+    append_lanes(from, first, movemask(kept));
   }
   read = end;
+  pad();
+}
+
+void CandidateBatch::append_lanes(const CandidateBatch& from, int first, uint32_t m) {
+  if (m == 0) return;
+  for (int c = 0; c < 9; ++c) compress_lanes(v[c].data(), count, from.v[c].data(), first, m);
+  for (auto [to, src] : {std::pair{&zmin, &from.zmin},
+                         {&hx0, &from.hx0},
+                         {&hx1, &from.hx1},
+                         {&hy0, &from.hy0},
+                         {&hy1, &from.hy1},
+                         {&nx, &from.nx},
+                         {&ny, &from.ny},
+                         {&nz, &from.nz},
+                         {&nd, &from.nd},
+                         {&n1, &from.n1},
+                         {&lmin, &from.lmin},
+                         {&lmax, &from.lmax}})
+    compress_lanes(to->data(), count, src->data(), first, m);
+  compress_lanes(tri.data(), count, from.tri.data(), first, m);
+  compress_lanes(opaque.data(), count, from.opaque.data(), first, m);
+  compress_lanes(solid.data(), count, from.solid.data(), first, m);
+  count += std::popcount(m);
+}
+
+void CandidateBatch::drop_solid_back_faces(const SampleBox& samples) {
+  if (samples.outside == 0 || count == 0) return;
+  float box_inf = 0.0f;
+  for (int a = 0; a < 3; ++a)
+    box_inf = std::max({box_inf, std::abs(samples.lo[a]), std::abs(samples.hi[a])});
+  const vi lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  const int end = count;
+  count = 0;  // compacted in place: lanes are read before the stores that reach them
+  for (int first = 0; first < end; first += kLanes) {
+    // The most positive side over the box: every sample strictly behind this face of a solid
+    // they all lie outside of (keep()'s test, at twice its tolerance for the whole box).
+    const vf nxv = load(&nx[first]), nyv = load(&ny[first]), nzv = load(&nz[first]);
+    const vf d = load(&nd[first]);
+    const vf most = vmax(nxv * samples.lo.x, nxv * samples.hi.x) +
+                    vmax(nyv * samples.lo.y, nyv * samples.hi.y) +
+                    vmax(nzv * samples.lo.z, nzv * samples.hi.z) - d;
+    const vf tol = (2.0f * kPlaneRel) * (load(&n1[first]) * box_inf + vmax(d, -d));
+    const vi behind = (most < -tol) & solid_lanes(&solid[first], samples.outside);
+    append_lanes(*this, first, movemask((lane_index + first < end) & ~behind));
+  }
   pad();
 }
 

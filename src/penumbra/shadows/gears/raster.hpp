@@ -47,11 +47,12 @@ struct CandidateBatch {
   int read = 0;  // list entries the last gather() read
   /// Gathers the candidates of [begin, end) that may block one of the work item's samples
   /// (gears/item_cull.hpp: depth cut and edge-angle slabs).
-  /// `samples` (their box and the solids they all lie outside of): also the solid test of
-  /// keep() for the whole box, with twice its tolerance (the samples' own tests then drop all
-  /// that this drops).
   void gather(const PackedTriangle* tris, const TrianglePlane* planes, const CellPair* begin,
-              const CellPair* end, const ItemBounds& item, const SampleBox* samples = nullptr);
+              const CellPair* end, const ItemBounds& item);
+  /// Drops, in place and in order, the faces of solids that every sample of `samples` lies
+  /// outside of and strictly behind: keep()'s solid test for the whole box, at twice its
+  /// tolerance, so the samples' own tests drop all that this drops.
+  void drop_solid_back_faces(const SampleBox& samples);
   /// The candidates from[begin, end) (a work item's) that may block sample `p` (unmirrored light
   /// space; `pixel`: its ItemBounds): the item's tests for this one sample and the
   /// separating-plane test (TrianglePlane), in the same order. A pixel sets up only what this
@@ -93,6 +94,8 @@ struct CandidateBatch {
 
  private:
   void reserve(size_t most);
+  /// Appends lanes `m` of from[first, first + 16) (every array) at `count`.
+  void append_lanes(const CandidateBatch& from, int first, uint32_t m);
   size_t reserved_ = 0;  // every array above holds at least this many elements
   void pad();
   void pad_setup();
