@@ -140,20 +140,31 @@ gears::TriangleSoup random_triangle(std::mt19937& rng, std::uniform_real_distrib
   return soup;
 }
 
+/// A one-triangle soup's cull bounds (pack_triangles) under `light`.
+gears::PackedTriangle packed_one(const gears::TriangleSoup& soup, const gears::FlatLight& light) {
+  const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
+  return gears::pack_triangles(soup, +1, zmin, light)[0];
+}
+
+/// The unit light square at z = 0, as FlatLight.
+gears::FlatLight unit_light() {
+  gears::FlatLight light;
+  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  return light;
+}
+
 /// The per-work-item cull (gears/item_cull.hpp) never drops a triangle that blocks one of the
 /// item's samples from some light point: random triangles and sample sets in light space, blocking
 /// decided by a double-precision segment–triangle test against a 24×24 grid of light points.
 TEST(Gears, ItemCullIsConservative) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f);
-  gears::FlatLight light;
-  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  const gears::FlatLight light = unit_light();
   int blocking = 0, culled = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     DVec3 v[3];
     const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
-    const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
-    const gears::PackedTriangle tri = gears::pack_triangles(soup, +1, zmin, light)[0];
+    const gears::PackedTriangle tri = packed_one(soup, light);
     // A small cluster of samples, like a work item's.
     const Vec3 centre(xy(rng), xy(rng), sz(rng));
     float px[8], py[8], pz[8];
@@ -192,14 +203,12 @@ TEST(Gears, ItemCullIsConservative) {
 TEST(Gears, BoxCullBoundsKeepWhatTheirTrianglesKeep) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f);
-  gears::FlatLight light;
-  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  const gears::FlatLight light = unit_light();
   int kept_by_triangle = 0, culled_by_box = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     DVec3 v[3];
     const gears::TriangleSoup soup = random_triangle(rng, xy, tz, v);
-    const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
-    const gears::PackedTriangle tri = gears::pack_triangles(soup, +1, zmin, light)[0];
+    const gears::PackedTriangle tri = packed_one(soup, light);
     Vec3 lo(kInfinity), hi(-kInfinity);
     for (int c = 0; c < 3; ++c) {
       const Vec3 q(soup.x[c][0], soup.y[c][0], soup.z[c][0]);
@@ -231,8 +240,7 @@ TEST(Gears, PixelCullIsConservative) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> xy(-1.5f, 2.5f), tz(0.05f, 2.0f), sz(0.05f, 4.0f),
       unit(0.0f, 1.0f);
-  gears::FlatLight light;
-  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  const gears::FlatLight light = unit_light();
   gears::GridCamera cam;  // only its light corners matter for a flat light
   int blocking = 0, culled = 0, near_plane = 0;
   for (int trial = 0; trial < 4000; ++trial) {
@@ -430,8 +438,7 @@ TEST(Gears, GroupCullKeepsWhatEachPixelKeeps) {
 TEST(Gears, SampleGroupsAreCompactInSlabCoordinates) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  gears::FlatLight light;
-  light.flat = true, light.lx0 = light.ly0 = 0.0f, light.lx1 = light.ly1 = 1.0f;
+  const gears::FlatLight light = unit_light();
   std::vector<float> x(100), y(100), z(100);
   for (int i = 0; i < 100; ++i) x[i] = unit(rng), y[i] = unit(rng), z[i] = 1.0f + 0.1f * unit(rng);
   std::vector<int> order, ends;
