@@ -7,6 +7,7 @@
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/exact/union_area.hpp"
 #include "penumbra/shadows/registry.hpp"
 
 namespace penumbra {
@@ -308,7 +309,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   sc.tri.clear();
   sc.edges.clear();
   size_t clipped_count = 0;
-  uint32_t kept = 0, pieces = 0;  // non-degenerate opaque polygons: mesh triangles, alpha pieces
+  uint32_t pieces = 0;  // non-degenerate opaque alpha pieces
 
   std::vector<SemiPolygon> semi;
   ClipperLib::Path& poly = sc.poly;
@@ -373,7 +374,6 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
         if (inside) {
           sc.inside.push_back(prim);
           ++r.polygons;
-          ++kept;
           return true;
         }
         if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
@@ -382,10 +382,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
         if (c.n == 0) return true;
         ++clipped_count;
         sc.tri.push_back(prim);
-        if (c.n >= 3) {
-          ++r.polygons;
-          ++kept;
-        }
+        if (c.n >= 3) ++r.polygons;
         if (c.n >= 4) {
           // Only a polygon reaching all four sides of the uv square can cover it.
           cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
@@ -444,20 +441,18 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   if (sc.edges.empty() && semi.empty()) return r;
 
   const LightOutline& outline = light.outline();
+  if (semi.empty() && !outline.round && !light.textured()) {
+    // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
+    // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
+    const double v = uncovered_square_area(sc.edges) / outline.area;
+    r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
+    r.visible_rgb = DVec3(r.visible);
+    return r;
+  }
   // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need the
   // hash.
   const size_t loop_count = trace_loops(sc.edges, sc.loops, pieces > 0);
   const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
-  if (kept + pieces == 1 && semi.empty() && !outline.round && !light.textured()) {
-    // One convex polygon, already clipped to the uv square that is the whole light: no boolean
-    // (its loops' signed areas, with any degenerate chains', sum to its own).
-    double area = 0.0;
-    for (const ClipperLib::Path& loop : loops) area += ClipperLib::Area(loop);
-    const double v = 1.0 - std::abs(area) / outline.area;
-    r.visible = std::clamp(v, 0.0, 1.0);
-    r.visible_rgb = DVec3(r.visible);
-    return r;
-  }
   const std::vector<LightRegion> regions = visible_regions(outline, loops, semi);
   double visible_area = 0.0;
   for (const LightRegion& region : regions)
