@@ -9,7 +9,7 @@ namespace {
 
 /// A non-horizontal edge, from its lower end: x(y) = x0 + (y − y0)·slope on [y0, y1].
 struct SweepEdge {
-  double y0, y1, x0, slope;
+  double y0, y1, x0, x1, slope;
   int dir;  // +1 going up, −1 going down: the winding number's step across it
 };
 
@@ -35,18 +35,17 @@ void sort_by_x(std::vector<Crossing>& active) {
 }
 
 /// The total length of [0, side] where the winding number is 0, from the edges crossing one
-/// horizontal line, sorted by their x there. The steps sum to 0 (closed chains), so the field is
-/// 0 again right of the last edge.
+/// horizontal line, sorted by their x there (those along the right side left out).
 double uncovered_width(const std::vector<Crossing>& sorted, double side) {
   int w = 0;
   double prev = 0.0, width = 0.0;
   for (const Crossing& c : sorted) {
     const double x = std::clamp(c.x, 0.0, side);
-    if (w == 0) width += x - prev;
+    width += w == 0 ? x - prev : 0.0;
     w += c.dir;
     prev = x;
   }
-  return width + (side - prev);
+  return width + (w == 0 ? side - prev : 0.0);
 }
 
 }  // namespace
@@ -54,70 +53,124 @@ double uncovered_width(const std::vector<Crossing>& sorted, double side) {
 double uncovered_square_area(std::span<const DirectedEdge> edges) {
   const double side = kUvScale;
   thread_local std::vector<SweepEdge> sweep;
-  thread_local std::vector<double> ys, cuts;
+  thread_local std::vector<uint64_t> order;  // (y0 << 32) | index: the edges by lower end
+  thread_local std::vector<double> cuts;
   thread_local std::vector<Crossing> active;
+  thread_local std::vector<SweepEdge> left;
   sweep.clear();
-  ys.clear();
+  order.clear();
+  left.clear();
+  const auto add = [&](double y0, double y1, double x0, double x1, int dir) {
+    order.push_back((static_cast<uint64_t>(y0) << 32) | sweep.size());
+    sweep.push_back({y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir});
+  };
+  const ClipperLib::cInt right = static_cast<ClipperLib::cInt>(kUvScale);
   for (const DirectedEdge& e : edges) {
     if (e.from.Y == e.to.Y) continue;  // horizontal: never crosses a line inside a beam
+    // Pieces along the light's right side change the field only at u ≥ 1, outside the square.
+    if (e.from.X == right && e.to.X == right) continue;
     const bool up = e.from.Y < e.to.Y;
     const ClipperLib::IntPoint& lo = up ? e.from : e.to;
     const ClipperLib::IntPoint& hi = up ? e.to : e.from;
     const double y0 = static_cast<double>(lo.Y), y1 = static_cast<double>(hi.Y);
-    const double x0 = static_cast<double>(lo.X);
-    sweep.push_back({y0, y1, x0, (static_cast<double>(hi.X) - x0) / (y1 - y0), up ? 1 : -1});
-    ys.push_back(y0);
-    ys.push_back(y1);
+    if (lo.X == 0 && hi.X == 0) {
+      left.push_back({y0, y1, 0.0, 0.0, 0.0, up ? 1 : -1});
+      continue;
+    }
+    add(y0, y1, static_cast<double>(lo.X), static_cast<double>(hi.X), up ? 1 : -1);
+  }
+  // Pieces along the left side (one per triangle clipped there): contiguous runs of one
+  // direction merged into one edge each, the same field with fewer beams.
+  std::sort(left.begin(), left.end(), [](const SweepEdge& a, const SweepEdge& b) {
+    return a.dir != b.dir ? a.dir < b.dir : a.y0 < b.y0;
+  });
+  for (size_t i = 0; i < left.size();) {
+    SweepEdge run = left[i++];
+    for (; i < left.size() && left[i].dir == run.dir && left[i].y0 == run.y1; ++i)
+      run.y1 = left[i].y1;
+    add(run.y0, run.y1, 0.0, 0.0, run.dir);
   }
   if (sweep.empty()) return side * side;
-  std::sort(sweep.begin(), sweep.end(),
-            [](const SweepEdge& a, const SweepEdge& b) { return a.y0 < b.y0; });
-  std::sort(ys.begin(), ys.end());
-  ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
+  std::sort(order.begin(), order.end());
+  const auto lower_end = [&](size_t k) { return sweep[order[k] & 0xFFFFFFFFu].y0; };
 
-  // Below the lowest and above the highest ordinate no edge is crossed: the field is 0.
-  double area = (ys.front() + (side - ys.back())) * side;
+  // Below the lowest ordinate no edge is crossed: the field is 0 (and above the highest).
+  double ya = lower_end(0);
+  double area = ya * side;
   active.clear();
   size_t next = 0;
-  for (size_t i = 0; i + 1 < ys.size(); ++i) {
-    const double ya = ys[i], yb = ys[i + 1], h = yb - ya;
-    // Edges ending at ya leave (in place, keeping the order), edges starting there enter.
+  while (true) {
+    // Edges ending at ya leave (in place, keeping the order), edges starting there enter; yb is
+    // the next ordinate where an edge starts or ends.
+    double yb = side;
     size_t kept = 0;
-    for (const Crossing& c : active)
-      if (sweep[c.edge].y1 > ya) active[kept++] = c;
+    for (const Crossing& c : active) {
+      const double y1 = sweep[c.edge].y1;
+      if (y1 > ya) {
+        active[kept++] = c;
+        yb = std::min(yb, y1);
+      }
+    }
     active.resize(kept);
-    for (; next < sweep.size() && sweep[next].y0 <= ya; ++next)
-      active.push_back({static_cast<uint32_t>(next), sweep[next].dir, 0.0, 0.0, 0.0});
+    for (; next < order.size() && lower_end(next) <= ya; ++next) {
+      const uint32_t k = static_cast<uint32_t>(order[next] & 0xFFFFFFFFu);
+      const SweepEdge& e = sweep[k];
+      active.push_back({k, e.dir, e.x0, e.x0, e.x0});
+      yb = std::min(yb, e.y1);
+    }
+    if (next < order.size()) yb = std::min(yb, lower_end(next));
     if (active.empty()) {
-      area += h * side;
+      if (next == order.size()) break;
+      area += (yb - ya) * side;
+      ya = yb;
       continue;
     }
+    const double h = yb - ya;
     for (Crossing& c : active) {
       const SweepEdge& e = sweep[c.edge];
-      c.xa = e.x0 + (ya - e.y0) * e.slope;
-      c.xb = e.x0 + (yb - e.y0) * e.slope;
-      c.x = 0.5 * (c.xa + c.xb);
+      // End points exactly: edges meeting at a vertex then meet in x too, never a false crossing.
+      c.xa = ya == e.y0 ? e.x0 : e.x0 + (ya - e.y0) * e.slope;
+      c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
     }
-    sort_by_x(active);
+    // Order at ya, ties by the order at yb (nearly sorted already: the previous beam's order at
+    // its top, plus the edges that just started).
     bool ordered = true;
-    for (size_t k = 1; k < active.size() && ordered; ++k)
-      ordered = active[k - 1].xa <= active[k].xa && active[k - 1].xb <= active[k].xb;
+    for (size_t i = 1; i < active.size(); ++i) {
+      const Crossing key = active[i];
+      size_t j = i;
+      while (j > 0 && (active[j - 1].xa > key.xa ||
+                       (active[j - 1].xa == key.xa && active[j - 1].xb > key.xb))) {
+        active[j] = active[j - 1];
+        --j;
+      }
+      active[j] = key;
+    }
+    for (size_t i = 1; i < active.size(); ++i) ordered &= active[i - 1].xb <= active[i].xb;
     if (ordered) {
-      // No two edges cross inside the beam: the uncovered width is linear in y there, and its
-      // value at the middle times the height is the beam's exact area.
+      // In order at both ends, so no two edges cross inside the beam: the uncovered width is
+      // linear in y there, and its value at the middle times the height is the beam's exact area.
+      for (Crossing& c : active) c.x = 0.5 * (c.xa + c.xb);
       area += h * uncovered_width(active, side);
+      ya = yb;
       continue;
     }
-    // Split the beam where pairs of edges cross (their order at ya and yb differs), then each
-    // piece is crossing-free.
+    // Insertion-sort by the order at yb: every swap is one pair whose order differs at the two
+    // ends, i.e. that crosses inside the beam. Split the beam there; each piece is crossing-free.
     cuts.clear();
-    for (size_t a = 0; a < active.size(); ++a) {
-      for (size_t b = a + 1; b < active.size(); ++b) {
-        const double da = active[a].xa - active[b].xa, db = active[a].xb - active[b].xb;
-        if (!((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))) continue;
-        const double y = ya + h * (da / (da - db));
-        if (y > ya && y < yb) cuts.push_back(y);
+    for (size_t i = 1; i < active.size(); ++i) {
+      const Crossing key = active[i];
+      size_t j = i;
+      while (j > 0 && active[j - 1].xb > key.xb) {
+        const Crossing& left = active[j - 1];
+        if (left.xa < key.xa) {  // strictly left at ya, strictly right at yb
+          const double da = left.xa - key.xa, db = left.xb - key.xb;
+          const double y = ya + h * (da / (da - db));
+          if (y > ya && y < yb) cuts.push_back(y);
+        }
+        active[j] = active[j - 1];
+        --j;
       }
+      active[j] = key;
     }
     std::sort(cuts.begin(), cuts.end());
     cuts.push_back(yb);
@@ -133,8 +186,9 @@ double uncovered_square_area(std::span<const DirectedEdge> edges) {
       area += (hi - lo) * uncovered_width(active, side);
       lo = hi;
     }
+    ya = yb;
   }
-  return area;
+  return area + (side - ya) * side;
 }
 
 }  // namespace penumbra
