@@ -362,11 +362,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
           return true;
         }
         if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
+        DVec3 h[3];
         if (!inside) {
-          // The leaf straddles the pyramid; the triangle itself often does not (its own box).
-          const Vec3 a(o.v[0]), b(o.v[1]), c(o.v[2]);
-          const int own =
-              classify_box(proj, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+          // The leaf straddles the pyramid; the triangle itself often does not: its vertices
+          // against the clip's own half-spaces, from the values the clip would test.
+          for (int k = 0; k < 3; ++k) h[k] = proj.homogeneous(o.v[k]);
+          const int own = classify_homogeneous(h, 3);
           if (own == ExactBvh::kOutside) return true;  // projects to nothing
           inside = own == ExactBvh::kInside;
         }
@@ -378,7 +379,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
         }
         if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
         ClippedPolygon& c = sc.clipped[clipped_count];
-        clip_polygon(proj, o.v, 3, c);
+        clip_homogeneous(h, 3, c);
         if (c.n == 0) return true;
         ++clipped_count;
         sc.tri.push_back(prim);

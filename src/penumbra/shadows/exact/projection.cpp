@@ -96,6 +96,25 @@ void drop_collinear(Path& loop) {
   while (loop.size() >= 3 && collinear(loop.back(), loop[0], loop[1])) loop.erase(loop.begin());
 }
 
+/// The clip half-spaces as f(U, V, W) ≥ 0 of a homogeneous point h = (U, V, W), in the order
+/// clip_polygon applies them. The apex cut comes first so the later planes only see W > 0.
+double clip_value(int plane, const DVec3& h) {
+  switch (plane) {
+    case 0:
+      return h.z - kMinW;
+    case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
+      return kShadowSegmentEnd - h.z;
+    case 2:
+      return h.x;
+    case 3:
+      return h.z - h.x;
+    case 4:
+      return h.y;
+    default:
+      return h.z - h.y;
+  }
+}
+
 }  // namespace
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
@@ -194,6 +213,25 @@ void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
                   ClippedPolygon& out) {
   out.n = 0;
   if (count < 3 || count > kMaxPolygon) return;
+  DVec3 h[kMaxPolygon];
+  for (int i = 0; i < count; ++i) h[i] = proj.homogeneous(vertices[i]);
+  clip_homogeneous(h, count, out);
+}
+
+int classify_homogeneous(const DVec3* h, int count) {
+  bool inside = true;
+  for (int plane = 0; plane < 6; ++plane) {
+    int fails = 0;
+    for (int i = 0; i < count; ++i) fails += clip_value(plane, h[i]) >= 0.0 ? 0 : 1;
+    if (fails == count) return ExactBvh::kOutside;
+    inside = inside && fails == 0;
+  }
+  return inside ? ExactBvh::kInside : ExactBvh::kPartial;
+}
+
+void clip_homogeneous(const DVec3* h, int count, ClippedPolygon& out) {
+  out.n = 0;
+  if (count < 3 || count > kMaxPolygon) return;
   constexpr int kCapacity = ClippedPolygon::kCapacity;
   DVec3 buf_a[kCapacity], buf_b[kCapacity];
   int8_t edge_a[kCapacity], edge_b[kCapacity];
@@ -203,33 +241,16 @@ void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
   int8_t* next_edge = edge_b;
   int n = count;
   for (int i = 0; i < count; ++i) {
-    in[i] = proj.homogeneous(vertices[i]);
+    in[i] = h[i];
     in_edge[i] = static_cast<int8_t>(i);
   }
 
-  // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
-  const auto f = [](int plane, const DVec3& h) {
-    switch (plane) {
-      case 0:
-        return h.z - kMinW;
-      case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
-        return kShadowSegmentEnd - h.z;
-      case 2:
-        return h.x;
-      case 3:
-        return h.z - h.x;
-      case 4:
-        return h.y;
-      default:
-        return h.z - h.y;
-    }
-  };
   for (int plane = 0; plane < 6 && n > 0; ++plane) {
     int m = 0;
     bool all_inside = true;
     double fv[kCapacity];
     for (int i = 0; i < n; ++i) {
-      fv[i] = f(plane, in[i]);
+      fv[i] = clip_value(plane, in[i]);
       all_inside &= fv[i] >= 0.0;
     }
     if (all_inside) continue;
