@@ -59,10 +59,12 @@ class ExactBvh {
     }
   }
 
-  /// Like traverse, for a convex query region: `classify(const Node&)` returns kOutside (skip the
-  /// subtree), kPartial (descend) or kInside (the whole box is inside: its subtree is visited
-  /// without further tests, the frustum-culling shortcut). `visit(prim, inside)` learns whether
-  /// the primitive's leaf lay inside; it returns false to stop. Same order as traverse.
+  /// Like traverse, for a convex query region: `classify(const Node&, bool inside)` returns
+  /// kOutside (skip the subtree), kPartial (descend) or kInside (the whole box is inside). Below
+  /// a kInside node `inside` is true: the region test can be skipped (the frustum-culling
+  /// shortcut), other pruning (kOutside) still applies, any other answer keeps it inside.
+  /// `visit(prim, inside)` learns whether the primitive's leaf lay inside; it returns false to
+  /// stop. Same order as traverse.
   static constexpr int kOutside = 0, kPartial = 1, kInside = 2;
   template <typename Classify, typename Visit>
   void traverse_classified(Classify&& classify, Visit&& visit) const {
@@ -77,12 +79,9 @@ class ExactBvh {
     while (top > 0) {
       const Entry e = stack[--top];
       const Node& node = nodes_[e.index];
-      bool inside = e.inside;
-      if (!inside) {
-        const int c = classify(node);
-        if (c == kOutside) continue;
-        inside = c == kInside;
-      }
+      const int c = classify(node, e.inside);
+      if (c == kOutside) continue;
+      const bool inside = e.inside || c == kInside;
       if (node.count > 0) {
         for (uint32_t k = node.first; k < node.first + node.count; ++k) {
           if (!visit(order_[k], inside)) return;

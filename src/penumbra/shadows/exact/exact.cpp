@@ -194,6 +194,10 @@ Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds
 /// margin of 1e-9 in the cosine is far above the rounding of the per-triangle side tests.
 bool subtree_culled(const ExactNodeCone& cone, const DVec3& p, bool keep_positive) {
   const DVec3 d = p - cone.center;
+  // The axis on the kept side of p − centre: cos_axis has the kept sign, sin(θ + φ) ≥ 0 below,
+  // so the test fails; decided before the square roots (most subtrees p sees from the front).
+  const double along = glm::dot(cone.axis, d);
+  if (keep_positive ? along >= 0.0 : along <= 0.0) return false;
   const double dist = glm::length(d);
   if (!(dist > cone.radius)) return false;
   const double sin_phi = cone.radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
@@ -329,8 +333,10 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const std::vector<ExactNodeCone>& cones = scene.node_cones();
   const std::vector<ExactBvh::Node>& nodes = scene.bvh().nodes();
   scene.bvh().traverse_classified(
-      [&](const ExactBvh::Node& n) {
-        const int c = classify_box(proj, n.lo, n.hi);
+      [&](const ExactBvh::Node& n, bool inside) {
+        // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
+        // holding a whole solid seen from outside has both sides, its children often one.
+        const int c = inside ? ExactBvh::kInside : classify_box(proj, n.lo, n.hi);
         if (c == ExactBvh::kOutside || cones.empty()) return c;
         const ExactNodeCone& cone = cones[static_cast<size_t>(&n - nodes.data())];
         if (cone.solid == ExactOccluder::kNotSolid) return c;
