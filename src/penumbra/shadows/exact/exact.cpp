@@ -299,6 +299,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     std::vector<uint32_t> tri;     // kept triangles projected during the traversal
     std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
     std::vector<DirectedEdge> edges;
+    std::vector<UvEdge> uv;
     ClipperLib::Paths loops;
     ClipperLib::Path poly;
   };
@@ -451,7 +452,9 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   if (semi.empty() && !outline.round && !light.textured()) {
     // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
     // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
-    const double v = uncovered_square_area(sc.edges) / outline.area;
+    sc.uv.clear();
+    append_uv_edges(sc.edges, sc.uv);
+    const double v = uncovered_square_area(sc.uv) / outline.area;
     r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
     r.visible_rgb = DVec3(r.visible);
     return r;

@@ -50,36 +50,83 @@ double uncovered_width(const std::vector<Crossing>& sorted, double side) {
 
 }  // namespace
 
-double uncovered_square_area(std::span<const DirectedEdge> edges) {
+void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& out) {
+  for (const DirectedEdge& e : edges)
+    out.push_back({static_cast<double>(e.from.X), static_cast<double>(e.from.Y),
+                   static_cast<double>(e.to.X), static_cast<double>(e.to.Y)});
+}
+
+double uncovered_square_area(std::span<const UvEdge> edges) {
   const double side = kUvScale;
+  struct Start {
+    double y0;
+    uint32_t edge;
+  };
   thread_local std::vector<SweepEdge> sweep;
-  thread_local std::vector<uint64_t> order;  // (y0 << 32) | index: the edges by lower end
+  thread_local std::vector<Start> order;  // the edges by lower end
   thread_local std::vector<double> cuts;
   thread_local std::vector<Crossing> active;
   thread_local std::vector<SweepEdge> left;
   sweep.clear();
   order.clear();
   left.clear();
-  const auto add = [&](double y0, double y1, double x0, double x1, int dir) {
-    order.push_back((static_cast<uint64_t>(y0) << 32) | sweep.size());
-    sweep.push_back({y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir});
+  const auto add = [&](double y0, double y1, double x0, double x1, double slope, int dir) {
+    order.push_back({y0, static_cast<uint32_t>(sweep.size())});
+    sweep.push_back({y0, y1, x0, x1, slope, dir});
   };
-  const ClipperLib::cInt right = static_cast<ClipperLib::cInt>(kUvScale);
-  for (const DirectedEdge& e : edges) {
-    if (e.from.Y == e.to.Y) continue;  // horizontal: never crosses a line inside a beam
-    // Pieces along the light's right side change the field only at u ≥ 1, outside the square.
-    if (e.from.X == right && e.to.X == right) continue;
-    const bool up = e.from.Y < e.to.Y;
-    const ClipperLib::IntPoint& lo = up ? e.from : e.to;
-    const ClipperLib::IntPoint& hi = up ? e.to : e.from;
-    const double y0 = static_cast<double>(lo.Y), y1 = static_cast<double>(hi.Y);
-    if (lo.X == 0 && hi.X == 0) {
-      left.push_back({y0, y1, 0.0, 0.0, 0.0, up ? 1 : -1});
+  for (const UvEdge& e : edges) {
+    if (e.y0 == e.y1) continue;  // horizontal: never crosses a line inside a beam
+    const bool up = e.y0 < e.y1;
+    double x0 = up ? e.x0 : e.x1, y0 = up ? e.y0 : e.y1;
+    double x1 = up ? e.x1 : e.x0, y1 = up ? e.y1 : e.y0;
+    if (!(y1 > 0.0 && y0 < side)) continue;  // no row of the square crosses it
+    if (x0 >= side && x1 >= side) continue;  // right of the square: changes nothing in it
+    const int dir = up ? 1 : -1;
+    // Rows outside the square are not measured: the parts beyond them are cut off.
+    const double slope = (x1 - x0) / (y1 - y0);
+    if (y0 < 0.0) {
+      x0 += (0.0 - y0) * slope;
+      y0 = 0.0;
+    }
+    if (y1 > side) {
+      x1 -= (y1 - side) * slope;
+      y1 = side;
+    }
+    // The part left of the square acts on it as its shadow on u = 0; the part right of it not
+    // at all. Split there, so that no edge crosses a side of the square inside a beam (the
+    // uncovered width would not be linear in y there).
+    const auto split_y = [&](double x) {
+      return std::clamp(y0 + (x - x0) * ((y1 - y0) / (x1 - x0)), y0, y1);
+    };
+    if ((x0 < 0.0 && x1 > 0.0) || (x0 > 0.0 && x1 < 0.0)) {
+      const double y = split_y(0.0);
+      if (x0 < 0.0) {
+        left.push_back({y0, y, 0.0, 0.0, 0.0, dir});
+        x0 = 0.0;
+        y0 = y;
+      } else {
+        left.push_back({y, y1, 0.0, 0.0, 0.0, dir});
+        x1 = 0.0;
+        y1 = y;
+      }
+    } else if (x0 <= 0.0 && x1 <= 0.0) {
+      left.push_back({y0, y1, 0.0, 0.0, 0.0, dir});
       continue;
     }
-    add(y0, y1, static_cast<double>(lo.X), static_cast<double>(hi.X), up ? 1 : -1);
+    if ((x0 < side && x1 > side) || (x0 > side && x1 < side)) {
+      const double y = split_y(side);
+      if (x0 > side) {
+        x0 = side;
+        y0 = y;
+      } else {
+        x1 = side;
+        y1 = y;
+      }
+    }
+    if (!(y1 > y0)) continue;
+    add(y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir);
   }
-  // Pieces along the left side (one per triangle clipped there): contiguous runs of one
+  // Edges along the left side (one per triangle clipped there): contiguous runs of one
   // direction merged into one edge each, the same field with fewer beams.
   std::sort(left.begin(), left.end(), [](const SweepEdge& a, const SweepEdge& b) {
     return a.dir != b.dir ? a.dir < b.dir : a.y0 < b.y0;
@@ -88,11 +135,13 @@ double uncovered_square_area(std::span<const DirectedEdge> edges) {
     SweepEdge run = left[i++];
     for (; i < left.size() && left[i].dir == run.dir && left[i].y0 == run.y1; ++i)
       run.y1 = left[i].y1;
-    add(run.y0, run.y1, 0.0, 0.0, run.dir);
+    add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
   }
   if (sweep.empty()) return side * side;
-  std::sort(order.begin(), order.end());
-  const auto lower_end = [&](size_t k) { return sweep[order[k] & 0xFFFFFFFFu].y0; };
+  std::sort(order.begin(), order.end(), [](const Start& a, const Start& b) {
+    return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
+  });
+  const auto lower_end = [&](size_t k) { return order[k].y0; };
 
   // Below the lowest ordinate no edge is crossed: the field is 0 (and above the highest).
   double ya = lower_end(0);
@@ -113,7 +162,7 @@ double uncovered_square_area(std::span<const DirectedEdge> edges) {
     }
     active.resize(kept);
     for (; next < order.size() && lower_end(next) <= ya; ++next) {
-      const uint32_t k = static_cast<uint32_t>(order[next] & 0xFFFFFFFFu);
+      const uint32_t k = order[next].edge;
       const SweepEdge& e = sweep[k];
       active.push_back({k, e.dir, e.x0, e.x0, e.x0});
       yb = std::min(yb, e.y1);
