@@ -16,6 +16,15 @@ namespace {
 
 using ClipperLib::cInt;
 
+/// Open projections need every vertex at least this far (a fraction of the distance to the
+/// light plane) from the receiver's plane: their uv then stay within ~1/kOpenMinW of the square.
+constexpr double kOpenMinW = 1e-3;
+
+/// The unrounded light uv × kUvScale of a homogeneous point with W > 0.
+DVec2 open_uv(const DVec3& h) {
+  return DVec2(h.x / h.z * kUvScale, h.y / h.z * kUvScale);
+}
+
 /// Rec. 709 luminance, the collapse of a textured light's RGB visibility to one V_coef that the
 /// sampling methods use too (light_weights.hpp).
 double luminance(const DVec3& rgb) {
@@ -290,13 +299,29 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   // pieces along the pyramid's faces, with the same winding-number field as the sum of the
   // polygons. A triangle whose box lies strictly inside the pyramid (no clipping) and whose three
   // neighbours are all kept with its orientation contributes nothing and is never projected.
-  // Every kept triangle is marked in `stamp` with the pixel's epoch and its side, so both
-  // triangles of a shared edge take the same decision.
+  // Every kept triangle is marked in `stamp` with the pixel's epoch, its side and how it was
+  // projected, so both triangles of a shared edge take the same decision.
+  //
+  // Where V is the area of the uniformly emitting square left uncovered (rectangular untextured
+  // light, no semi-opaque occluder: `open_ok`), the area sweep measures the winding field inside
+  // the square whatever the edges do outside it, so a triangle straddling the pyramid's sides
+  // need not be clipped there: it is projected whole ("open": unrounded uv of its three vertices)
+  // when all of them lie between p and the light, W in [kOpenMinW, kShadowSegmentEnd] (W bounded
+  // away from 0 keeps the coordinates, and their rounding, small). Triangles inside the pyramid
+  // are open too (clipping would not change them); the others are clipped as before. A shared
+  // edge cancels only between two triangles projected the same way (their copies are then
+  // identical); across the two ways both copies are emitted, and their sum is still the sum of
+  // the two polygons' fields.
+  struct OpenTriangle {
+    uint32_t prim;
+    DVec2 q[3];  // uv × kUvScale of v[0], v[1], v[2]
+  };
   struct Scratch {
-    std::vector<uint32_t> stamp;  // (epoch << 1) | positive side, for this pixel's kept triangles
+    std::vector<uint32_t> stamp;  // (epoch << 2) | open << 1 | positive side, kept triangles
     uint32_t epoch = 0;
-    std::vector<uint32_t> inside;  // kept triangles from boxes inside the pyramid (not clipped)
-    std::vector<uint32_t> tri;     // kept triangles projected during the traversal
+    std::vector<uint32_t> inside;    // kept triangles from boxes inside the pyramid (not clipped)
+    std::vector<OpenTriangle> open;  // kept triangles straddling the sides, projected whole
+    std::vector<uint32_t> tri;       // kept triangles clipped during the traversal
     std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
     std::vector<DirectedEdge> edges;
     std::vector<UvEdge> uv;
@@ -305,12 +330,16 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   };
   thread_local Scratch sc;
   if (sc.stamp.size() < occluders.size()) sc.stamp.resize(occluders.size(), 0);
-  if (++sc.epoch >= (1u << 31)) {  // epochs only grow: stamps of earlier pixels never match
+  if (++sc.epoch >= (1u << 30)) {  // epochs only grow: stamps of earlier pixels never match
     std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
     sc.epoch = 1;
   }
-  const uint32_t mark = sc.epoch << 1;
+  const uint32_t mark = sc.epoch << 2;
+  const LightOutline& outline = light.outline();
+  const bool open_ok = !outline.round && !light.textured() && !scene.semi_opaque();
+  const uint32_t open_bit = open_ok ? 2u : 0u;
   sc.inside.clear();
+  sc.open.clear();
   sc.tri.clear();
   sc.edges.clear();
   size_t clipped_count = 0;
@@ -378,12 +407,31 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
           if (own == ExactBvh::kOutside) return true;  // projects to nothing
           inside = own == ExactBvh::kInside;
         }
-        sc.stamp[prim] = mark | (side > 0.0 ? 1u : 0u);
+        const uint32_t side_bit = side > 0.0 ? 1u : 0u;
         if (inside) {
+          sc.stamp[prim] = mark | open_bit | side_bit;
           sc.inside.push_back(prim);
           ++r.polygons;
           return true;
         }
+        if (open_ok && h[0].z >= kOpenMinW && h[1].z >= kOpenMinW && h[2].z >= kOpenMinW &&
+            h[0].z <= kShadowSegmentEnd && h[1].z <= kShadowSegmentEnd &&
+            h[2].z <= kShadowSegmentEnd) {
+          OpenTriangle t{prim, {}};
+          for (int k = 0; k < 3; ++k) t.q[k] = open_uv(h[k]);
+          // One that may cover the whole square is clipped instead (the umbra test below).
+          const double lo_x = std::min({t.q[0].x, t.q[1].x, t.q[2].x});
+          const double hi_x = std::max({t.q[0].x, t.q[1].x, t.q[2].x});
+          const double lo_y = std::min({t.q[0].y, t.q[1].y, t.q[2].y});
+          const double hi_y = std::max({t.q[0].y, t.q[1].y, t.q[2].y});
+          if (!(lo_x <= 0.0 && lo_y <= 0.0 && hi_x >= kUvScale && hi_y >= kUvScale)) {
+            sc.stamp[prim] = mark | open_bit | side_bit;
+            sc.open.push_back(t);
+            ++r.polygons;
+            return true;
+          }
+        }
+        sc.stamp[prim] = mark | side_bit;
         if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
         ClippedPolygon& c = sc.clipped[clipped_count];
         clip_homogeneous(h, 3, c);
@@ -435,6 +483,20 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     }
   };
   for (size_t i = 0; i < clipped_count; ++i) emit(sc.tri[i], sc.clipped[i]);
+  sc.uv.clear();
+  const auto emit_open = [&](uint32_t prim, const DVec2* q) {
+    const ExactOccluder& o = occluders[prim];
+    const uint32_t own = sc.stamp[prim];
+    const bool flip = det_positive == ((own & 1u) != 0);
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t nb = o.neighbour[e];
+      if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
+      const DVec2& a = q[e];
+      const DVec2& b = q[e == 2 ? 0 : e + 1];
+      sc.uv.push_back(flip ? UvEdge{b.x, b.y, a.x, a.y} : UvEdge{a.x, a.y, b.x, b.y});
+    }
+  };
+  for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
   ClippedPolygon unclipped;
   for (const uint32_t prim : sc.inside) {
     const ExactOccluder& o = occluders[prim];
@@ -443,16 +505,20 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     for (const uint32_t nb : o.neighbour)
       interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
     if (interior) continue;
+    if (open_ok) {
+      DVec2 q[3];
+      for (int k = 0; k < 3; ++k) q[k] = open_uv(proj.homogeneous(o.v[k]));
+      emit_open(prim, q);
+      continue;
+    }
     clip_polygon(proj, o.v, 3, unclipped);
     emit(prim, unclipped);
   }
-  if (sc.edges.empty() && semi.empty()) return r;
+  if (sc.edges.empty() && sc.uv.empty() && semi.empty()) return r;
 
-  const LightOutline& outline = light.outline();
-  if (semi.empty() && !outline.round && !light.textured()) {
+  if (open_ok) {
     // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
     // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
-    sc.uv.clear();
     append_uv_edges(sc.edges, sc.uv);
     const double v = uncovered_square_area(sc.uv) / outline.area;
     r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;

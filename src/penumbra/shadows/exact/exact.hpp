@@ -108,6 +108,8 @@ class ExactScene {
   const std::vector<ExactSolid>& solids() const { return solids_; }
   /// One per BVH node (empty when there are no solids).
   const std::vector<ExactNodeCone>& node_cones() const { return node_cones_; }
+  /// Some occluder is semi-opaque (0 < transmittance < 1).
+  bool semi_opaque() const { return semi_opaque_; }
 
  private:
   const Scene* scene_;
@@ -117,6 +119,7 @@ class ExactScene {
   std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
   std::vector<ExactNodeCone> node_cones_;
+  bool semi_opaque_ = false;
 };
 
 /// Everything about one light that does not depend on the receiver: its uv outline (square or
