@@ -189,21 +189,23 @@ int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
   // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
   // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
   // Eight lanes without branches, so the compiler vectorises the loop.
-  const double lx = lo.x - proj.origin.x, ly = lo.y - proj.origin.y, lz = lo.z - proj.origin.z;
-  const double hx = hi.x - proj.origin.x, hy = hi.y - proj.origin.y, hz = hi.z - proj.origin.z;
-  const double bx = std::max(std::abs(lx), std::abs(hx)), by = std::max(std::abs(ly), std::abs(hy)),
-               bz = std::max(std::abs(lz), std::abs(hz));
+  // Centre and half extent: f at the centre ± Σ |n_i|·extent_i bound f over the box (the
+  // float corners add exactly in double).
+  const double cx = 0.5 * (static_cast<double>(lo.x) + hi.x) - proj.origin.x;
+  const double cy = 0.5 * (static_cast<double>(lo.y) + hi.y) - proj.origin.y;
+  const double cz = 0.5 * (static_cast<double>(lo.z) + hi.z) - proj.origin.z;
+  const double ex = 0.5 * (static_cast<double>(hi.x) - lo.x);
+  const double ey = 0.5 * (static_cast<double>(hi.y) - lo.y);
+  const double ez = 0.5 * (static_cast<double>(hi.z) - lo.z);
+  const double bx = std::abs(cx) + ex, by = std::abs(cy) + ey, bz = std::abs(cz) + ez;
   const LightProjection::Lanes& l = proj.lanes;
   int outside = 0, inside = 0;
   for (int k = 0; k < 8; ++k) {
-    const double x0 = l.nx[k] * lx, x1 = l.nx[k] * hx;
-    const double y0 = l.ny[k] * ly, y1 = l.ny[k] * hy;
-    const double z0 = l.nz[k] * lz, z1 = l.nz[k] * hz;
-    const double min_f = l.c[k] + std::min(x0, x1) + std::min(y0, y1) + std::min(z0, z1);
-    const double max_f = l.c[k] + std::max(x0, x1) + std::max(y0, y1) + std::max(z0, z1);
+    const double f = l.c[k] + l.nx[k] * cx + l.ny[k] * cy + l.nz[k] * cz;
+    const double r = l.ax[k] * ex + l.ay[k] * ey + l.az[k] * ez;
     const double margin = 1e-9 * (l.ac[k] + l.ax[k] * bx + l.ay[k] * by + l.az[k] * bz);
-    outside |= max_f < -margin ? 1 : 0;
-    inside += min_f > margin ? 1 : 0;
+    outside |= f + r < -margin ? 1 : 0;
+    inside += f - r > margin ? 1 : 0;
   }
   if (outside) return ExactBvh::kOutside;
   return inside == 8 ? ExactBvh::kInside : ExactBvh::kPartial;
