@@ -87,6 +87,9 @@ class ExactBvh {
           if (!visit(order_[k], inside)) return;
         }
       } else {
+        // The right child is far from this node in memory (the left one follows it): fetch it
+        // while the left subtree is visited.
+        __builtin_prefetch(&nodes_[node.first]);
         stack[top++] = {node.first, inside};
         stack[top++] = {e.index + 1, inside};
       }

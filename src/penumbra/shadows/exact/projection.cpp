@@ -221,14 +221,23 @@ void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
 }
 
 int classify_homogeneous(const DVec3* h, int count) {
-  bool inside = true;
-  for (int plane = 0; plane < 6; ++plane) {
-    int fails = 0;
-    for (int i = 0; i < count; ++i) fails += clip_value(plane, h[i]) >= 0.0 ? 0 : 1;
-    if (fails == count) return ExactBvh::kOutside;
-    inside = inside && fails == 0;
+  // clip_value of every plane, without the switch: per plane the number of vertices failing it.
+  int fails[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < count; ++i) {
+    const DVec3& q = h[i];
+    fails[0] += q.z - kMinW >= 0.0 ? 0 : 1;
+    fails[1] += kShadowSegmentEnd - q.z >= 0.0 ? 0 : 1;
+    fails[2] += q.x >= 0.0 ? 0 : 1;
+    fails[3] += q.z - q.x >= 0.0 ? 0 : 1;
+    fails[4] += q.y >= 0.0 ? 0 : 1;
+    fails[5] += q.z - q.y >= 0.0 ? 0 : 1;
   }
-  return inside ? ExactBvh::kInside : ExactBvh::kPartial;
+  int any = 0;
+  for (int plane = 0; plane < 6; ++plane) {
+    if (fails[plane] == count) return ExactBvh::kOutside;
+    any += fails[plane];
+  }
+  return any == 0 ? ExactBvh::kInside : ExactBvh::kPartial;
 }
 
 void clip_homogeneous(const DVec3* h, int count, ClippedPolygon& out) {
