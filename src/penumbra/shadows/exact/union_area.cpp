@@ -18,7 +18,65 @@ struct Crossing {
   uint32_t edge;
   int dir;
   double xa, xb, x;
+  // integrate_by_swaps: the winding number left of the edge, its coefficient in the uncovered
+  // width (+1: an uncovered interval ends here, −1: one starts, 0: neither) and since when.
+  int w_left = 0, coefficient = 0;
+  double since = 0.0;
 };
+
+/// Two edges, `left` left of `right` at the beam's bottom, crossing at ordinate y.
+struct Swap {
+  double y;
+  uint32_t left, right;
+};
+
+/// The area of one beam [ya, yb] whose edges cross: the uncovered width is
+/// Σ coefficient_i · x_i(y) (+ the side when the field is 0 right of the last edge), and at a
+/// crossing only the two edges that swap change coefficient, so each edge's term is integrated
+/// exactly (linear x, midpoint rule) over the runs where its coefficient is constant. `active`
+/// is in bottom order and ends in top order; false (area unchanged) when a swap's two edges are
+/// not neighbours at its turn (several crossings at one point, or close ones that rounding
+/// reordered): the caller then splits the beam.
+bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossing>& active,
+                        std::vector<Swap>& swaps, std::vector<uint32_t>& pos, double ya, double yb,
+                        double side, double& area) {
+  std::sort(swaps.begin(), swaps.end(), [](const Swap& a, const Swap& b) { return a.y < b.y; });
+  int w = 0;
+  for (size_t k = 0; k < active.size(); ++k) {
+    Crossing& c = active[k];
+    pos[c.edge] = static_cast<uint32_t>(k);
+    c.w_left = w;
+    w += c.dir;
+    c.coefficient = (c.w_left == 0 ? 1 : 0) - (w == 0 ? 1 : 0);
+    c.since = ya;
+  }
+  double sum = 0.0;
+  const auto flush = [&](Crossing& c, double y) {
+    if (c.coefficient != 0) {
+      const SweepEdge& e = sweep[c.edge];
+      sum += c.coefficient * (y - c.since) * (e.x0 + (0.5 * (y + c.since) - e.y0) * e.slope);
+    }
+    c.since = y;
+  };
+  for (const Swap& s : swaps) {
+    const uint32_t p = pos[s.left], q = pos[s.right];
+    if (q != p + 1) return false;
+    flush(active[p], s.y);
+    flush(active[q], s.y);
+    std::swap(active[p], active[q]);
+    pos[s.right] = p;
+    pos[s.left] = q;
+    Crossing& a = active[p];
+    Crossing& b = active[q];
+    a.w_left = b.w_left;
+    b.w_left = a.w_left + a.dir;
+    a.coefficient = (a.w_left == 0 ? 1 : 0) - (b.w_left == 0 ? 1 : 0);
+    b.coefficient = (b.w_left == 0 ? 1 : 0) - (b.w_left + b.dir == 0 ? 1 : 0);
+  }
+  for (Crossing& c : active) flush(c, yb);
+  area += sum + (w == 0 ? (yb - ya) * side : 0.0);
+  return true;
+}
 
 /// Sorts by x; the array is nearly sorted from one beam to the next, so insertion sort is linear
 /// in practice.
@@ -67,6 +125,9 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
   thread_local std::vector<double> cuts;
   thread_local std::vector<Crossing> active;
   thread_local std::vector<SweepEdge> left;
+  thread_local std::vector<Crossing> by_top;
+  thread_local std::vector<Swap> swaps;
+  thread_local std::vector<uint32_t> pos;
   sweep.clear();
   order.clear();
   left.clear();
@@ -113,6 +174,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       left.push_back({y0, y1, 0.0, 0.0, 0.0, dir});
       continue;
     }
+    if (x0 >= side && x1 >= side) continue;  // (the rows' cut may have moved it right)
     if ((x0 < side && x1 > side) || (x0 > side && x1 < side)) {
       const double y = split_y(side);
       if (x0 > side) {
@@ -138,6 +200,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
     add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
   }
   if (sweep.empty()) return side * side;
+  if (pos.size() < sweep.size()) pos.resize(sweep.size());
   std::sort(order.begin(), order.end(), [](const Start& a, const Start& b) {
     return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
   });
@@ -203,24 +266,33 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       ya = yb;
       continue;
     }
-    // Insertion-sort by the order at yb: every swap is one pair whose order differs at the two
-    // ends, i.e. that crosses inside the beam. Split the beam there; each piece is crossing-free.
-    cuts.clear();
-    for (size_t i = 1; i < active.size(); ++i) {
-      const Crossing key = active[i];
+    // Insertion-sort a copy by the order at yb: every swap is one pair whose order differs at
+    // the two ends, i.e. that crosses inside the beam.
+    swaps.clear();
+    by_top.assign(active.begin(), active.end());
+    for (size_t i = 1; i < by_top.size(); ++i) {
+      const Crossing key = by_top[i];
       size_t j = i;
-      while (j > 0 && active[j - 1].xb > key.xb) {
-        const Crossing& left = active[j - 1];
+      while (j > 0 && by_top[j - 1].xb > key.xb) {
+        const Crossing& left = by_top[j - 1];
         if (left.xa < key.xa) {  // strictly left at ya, strictly right at yb
           const double da = left.xa - key.xa, db = left.xb - key.xb;
-          const double y = ya + h * (da / (da - db));
-          if (y > ya && y < yb) cuts.push_back(y);
+          swaps.push_back({std::clamp(ya + h * (da / (da - db)), ya, yb), left.edge, key.edge});
         }
-        active[j] = active[j - 1];
+        by_top[j] = by_top[j - 1];
         --j;
       }
-      active[j] = key;
+      by_top[j] = key;
     }
+    if (integrate_by_swaps(sweep, active, swaps, pos, ya, yb, side, area)) {
+      ya = yb;
+      continue;
+    }
+    // Swaps not between neighbours (several crossings at one point, or rounding reordered close
+    // ones): split the beam at every crossing instead, each piece crossing-free.
+    cuts.clear();
+    for (const Swap& w : swaps)
+      if (w.y > ya && w.y < yb) cuts.push_back(w.y);
     std::sort(cuts.begin(), cuts.end());
     cuts.push_back(yb);
     double lo = ya;
