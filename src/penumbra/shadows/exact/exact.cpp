@@ -659,7 +659,8 @@ void register_exact(MethodRegistry& registry) {
   info.name = "exact";
   info.summary =
       "analytic visible fraction per pixel: occluders projected onto the light by homogeneous "
-      "clipping, union area with exact integer polygon booleans (no samples)";
+      "clipping, uncovered area by a scanline sweep over their silhouette edges (integer polygon "
+      "booleans for round or textured lights and semi-opaque occluders; no samples)";
   info.reference =
       "Penumbra's analytic reference: V_coef [Forest 2008 eq. 2.10], semi-opaque occluders "
       "[Forest 2008 §4.3.3] (docs/references.md)";

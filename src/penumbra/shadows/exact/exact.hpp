@@ -1,7 +1,9 @@
 // `exact`: the analytic reference. Per receiver point, every occluder polygon between the point
 // and the light is projected onto the light's uv square (exactly, by homogeneous clipping), and
-// the visible fraction is the area of the light left uncovered, measured with exact integer
-// polygon booleans (Clipper) — no light samples (docs/methods/exact.md). It is the
+// the visible fraction is the area of the light left uncovered, measured by a scanline sweep over
+// the projected silhouette's edges (union_area.hpp), or with exact integer polygon booleans
+// (Clipper) for round or textured lights and semi-opaque occluders — no light samples
+// (docs/methods/exact.md). It is the
 // V_coef of [Forest 2008 eq. 2.10] integrated exactly: alpha-textured occluders are cut into their
 // opaque texel runs, semi-opaque ones multiply by their transmittance per crossing
 // [Forest 2008 §4.3.3], textured lights weight the light by texel.
