@@ -189,8 +189,8 @@ int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
   // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
   // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
   // Eight lanes without branches, so the compiler vectorises the loop.
-  // Centre and half extent: f at the centre ± Σ |n_i|·extent_i bound f over the box (the
-  // float corners add exactly in double).
+  // Centre and half extent: f at the centre ± Σ |n_i|·extent_i bound f over the box (their
+  // rounding in double is far below the margin).
   const double cx = 0.5 * (static_cast<double>(lo.x) + hi.x) - proj.origin.x;
   const double cy = 0.5 * (static_cast<double>(lo.y) + hi.y) - proj.origin.y;
   const double cz = 0.5 * (static_cast<double>(lo.z) + hi.z) - proj.origin.z;
