@@ -59,10 +59,12 @@ class ExactBvh {
     }
   }
 
-  /// Like traverse, for a convex query region: `classify(const Node&)` returns kOutside (skip the
-  /// subtree), kPartial (descend) or kInside (the whole box is inside: its subtree is visited
-  /// without further tests, the frustum-culling shortcut). `visit(prim, inside)` learns whether
-  /// the primitive's leaf lay inside; it returns false to stop. Same order as traverse.
+  /// Like traverse, for a convex query region: `classify(const Node&, bool inside)` returns
+  /// kOutside (skip the subtree), kPartial (descend) or kInside (the whole box is inside). Below
+  /// a kInside node `inside` is true: the region test can be skipped (the frustum-culling
+  /// shortcut), other pruning (kOutside) still applies, any other answer keeps it inside.
+  /// `visit(prim, inside)` learns whether the primitive's leaf lay inside; it returns false to
+  /// stop. Same order as traverse.
   static constexpr int kOutside = 0, kPartial = 1, kInside = 2;
   template <typename Classify, typename Visit>
   void traverse_classified(Classify&& classify, Visit&& visit) const {
@@ -77,17 +79,17 @@ class ExactBvh {
     while (top > 0) {
       const Entry e = stack[--top];
       const Node& node = nodes_[e.index];
-      bool inside = e.inside;
-      if (!inside) {
-        const int c = classify(node);
-        if (c == kOutside) continue;
-        inside = c == kInside;
-      }
+      const int c = classify(node, e.inside);
+      if (c == kOutside) continue;
+      const bool inside = e.inside || c == kInside;
       if (node.count > 0) {
         for (uint32_t k = node.first; k < node.first + node.count; ++k) {
           if (!visit(order_[k], inside)) return;
         }
       } else {
+        // The right child is far from this node in memory (the left one follows it): fetch it
+        // while the left subtree is visited.
+        __builtin_prefetch(&nodes_[node.first]);
         stack[top++] = {node.first, inside};
         stack[top++] = {e.index + 1, inside};
       }

@@ -7,6 +7,7 @@
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/exact/union_area.hpp"
 #include "penumbra/shadows/registry.hpp"
 
 namespace penumbra {
@@ -14,6 +15,15 @@ namespace penumbra {
 namespace {
 
 using ClipperLib::cInt;
+
+/// Open projections need every vertex at least this far (a fraction of the distance to the
+/// light plane) from the receiver's plane: their uv then stay within ~1/kOpenMinW of the square.
+constexpr double kOpenMinW = 1e-3;
+
+/// The unrounded light uv × kUvScale of a homogeneous point with W > 0.
+DVec2 open_uv(const DVec3& h) {
+  return DVec2(h.x / h.z * kUvScale, h.y / h.z * kUvScale);
+}
 
 /// Rec. 709 luminance, the collapse of a textured light's RGB visibility to one V_coef that the
 /// sampling methods use too (light_weights.hpp).
@@ -193,6 +203,10 @@ Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds
 /// margin of 1e-9 in the cosine is far above the rounding of the per-triangle side tests.
 bool subtree_culled(const ExactNodeCone& cone, const DVec3& p, bool keep_positive) {
   const DVec3 d = p - cone.center;
+  // The axis on the kept side of p − centre: cos_axis has the kept sign, sin(θ + φ) ≥ 0 below,
+  // so the test fails; decided before the square roots (most subtrees p sees from the front).
+  const double along = glm::dot(cone.axis, d);
+  if (keep_positive ? along >= 0.0 : along <= 0.0) return false;
   const double dist = glm::length(d);
   if (!(dist > cone.radius)) return false;
   const double sin_phi = cone.radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
@@ -285,30 +299,51 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   // pieces along the pyramid's faces, with the same winding-number field as the sum of the
   // polygons. A triangle whose box lies strictly inside the pyramid (no clipping) and whose three
   // neighbours are all kept with its orientation contributes nothing and is never projected.
-  // Every kept triangle is marked in `stamp` with the pixel's epoch and its side, so both
-  // triangles of a shared edge take the same decision.
+  // Every kept triangle is marked in `stamp` with the pixel's epoch, its side and how it was
+  // projected, so both triangles of a shared edge take the same decision.
+  //
+  // Where V is the area of the uniformly emitting square left uncovered (rectangular untextured
+  // light, no semi-opaque occluder: `open_ok`), the area sweep measures the winding field inside
+  // the square whatever the edges do outside it, so a triangle straddling the pyramid's sides
+  // need not be clipped there: it is projected whole ("open": unrounded uv of its three vertices)
+  // when all of them lie between p and the light, W in [kOpenMinW, kShadowSegmentEnd] (W bounded
+  // away from 0 keeps the coordinates, and their rounding, small). Triangles inside the pyramid
+  // are open too (clipping would not change them); the others are clipped as before. A shared
+  // edge cancels only between two triangles projected the same way (their copies are then
+  // identical); across the two ways both copies are emitted, and their sum is still the sum of
+  // the two polygons' fields.
+  struct OpenTriangle {
+    uint32_t prim;
+    DVec2 q[3];  // uv × kUvScale of v[0], v[1], v[2]
+  };
   struct Scratch {
-    std::vector<uint32_t> stamp;  // (epoch << 1) | positive side, for this pixel's kept triangles
+    std::vector<uint32_t> stamp;  // (epoch << 2) | open << 1 | positive side, kept triangles
     uint32_t epoch = 0;
-    std::vector<uint32_t> inside;  // kept triangles from boxes inside the pyramid (not clipped)
-    std::vector<uint32_t> tri;     // kept triangles projected during the traversal
+    std::vector<uint32_t> inside;    // kept triangles from boxes inside the pyramid (not clipped)
+    std::vector<OpenTriangle> open;  // kept triangles straddling the sides, projected whole
+    std::vector<uint32_t> tri;       // kept triangles clipped during the traversal
     std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
     std::vector<DirectedEdge> edges;
+    std::vector<UvEdge> uv;
     ClipperLib::Paths loops;
     ClipperLib::Path poly;
   };
   thread_local Scratch sc;
   if (sc.stamp.size() < occluders.size()) sc.stamp.resize(occluders.size(), 0);
-  if (++sc.epoch >= (1u << 31)) {  // epochs only grow: stamps of earlier pixels never match
+  if (++sc.epoch >= (1u << 30)) {  // epochs only grow: stamps of earlier pixels never match
     std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
     sc.epoch = 1;
   }
-  const uint32_t mark = sc.epoch << 1;
+  const uint32_t mark = sc.epoch << 2;
+  const LightOutline& outline = light.outline();
+  const bool open_ok = !outline.round && !light.textured() && !scene.semi_opaque();
+  const uint32_t open_bit = open_ok ? 2u : 0u;
   sc.inside.clear();
+  sc.open.clear();
   sc.tri.clear();
   sc.edges.clear();
   size_t clipped_count = 0;
-  uint32_t kept = 0, pieces = 0;  // non-degenerate opaque polygons: mesh triangles, alpha pieces
+  uint32_t pieces = 0;  // non-degenerate opaque alpha pieces
 
   std::vector<SemiPolygon> semi;
   ClipperLib::Path& poly = sc.poly;
@@ -328,8 +363,10 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const std::vector<ExactNodeCone>& cones = scene.node_cones();
   const std::vector<ExactBvh::Node>& nodes = scene.bvh().nodes();
   scene.bvh().traverse_classified(
-      [&](const ExactBvh::Node& n) {
-        const int c = classify_box(proj, n.lo, n.hi);
+      [&](const ExactBvh::Node& n, bool inside) {
+        // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
+        // holding a whole solid seen from outside has both sides, its children often one.
+        const int c = inside ? ExactBvh::kInside : classify_box(proj, n.lo, n.hi);
         if (c == ExactBvh::kOutside || cones.empty()) return c;
         const ExactNodeCone& cone = cones[static_cast<size_t>(&n - nodes.data())];
         if (cone.solid == ExactOccluder::kNotSolid) return c;
@@ -361,31 +398,47 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
           return true;
         }
         if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
+        DVec3 h[3];
         if (!inside) {
-          // The leaf straddles the pyramid; the triangle itself often does not (its own box).
-          const Vec3 a(o.v[0]), b(o.v[1]), c(o.v[2]);
-          const int own =
-              classify_box(proj, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+          // The leaf straddles the pyramid; the triangle itself often does not: its vertices
+          // against the clip's own half-spaces, from the values the clip would test.
+          for (int k = 0; k < 3; ++k) h[k] = proj.homogeneous(o.v[k]);
+          const int own = classify_homogeneous(h, 3);
           if (own == ExactBvh::kOutside) return true;  // projects to nothing
           inside = own == ExactBvh::kInside;
         }
-        sc.stamp[prim] = mark | (side > 0.0 ? 1u : 0u);
+        const uint32_t side_bit = side > 0.0 ? 1u : 0u;
         if (inside) {
+          sc.stamp[prim] = mark | open_bit | side_bit;
           sc.inside.push_back(prim);
           ++r.polygons;
-          ++kept;
           return true;
         }
+        if (open_ok && h[0].z >= kOpenMinW && h[1].z >= kOpenMinW && h[2].z >= kOpenMinW &&
+            h[0].z <= kShadowSegmentEnd && h[1].z <= kShadowSegmentEnd &&
+            h[2].z <= kShadowSegmentEnd) {
+          OpenTriangle t{prim, {}};
+          for (int k = 0; k < 3; ++k) t.q[k] = open_uv(h[k]);
+          // One that may cover the whole square is clipped instead (the umbra test below).
+          const double lo_x = std::min({t.q[0].x, t.q[1].x, t.q[2].x});
+          const double hi_x = std::max({t.q[0].x, t.q[1].x, t.q[2].x});
+          const double lo_y = std::min({t.q[0].y, t.q[1].y, t.q[2].y});
+          const double hi_y = std::max({t.q[0].y, t.q[1].y, t.q[2].y});
+          if (!(lo_x <= 0.0 && lo_y <= 0.0 && hi_x >= kUvScale && hi_y >= kUvScale)) {
+            sc.stamp[prim] = mark | open_bit | side_bit;
+            sc.open.push_back(t);
+            ++r.polygons;
+            return true;
+          }
+        }
+        sc.stamp[prim] = mark | side_bit;
         if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
         ClippedPolygon& c = sc.clipped[clipped_count];
-        clip_polygon(proj, o.v, 3, c);
+        clip_homogeneous(h, 3, c);
         if (c.n == 0) return true;
         ++clipped_count;
         sc.tri.push_back(prim);
-        if (c.n >= 3) {
-          ++r.polygons;
-          ++kept;
-        }
+        if (c.n >= 3) ++r.polygons;
         if (c.n >= 4) {
           // Only a polygon reaching all four sides of the uv square can cover it.
           cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
@@ -430,6 +483,20 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     }
   };
   for (size_t i = 0; i < clipped_count; ++i) emit(sc.tri[i], sc.clipped[i]);
+  sc.uv.clear();
+  const auto emit_open = [&](uint32_t prim, const DVec2* q) {
+    const ExactOccluder& o = occluders[prim];
+    const uint32_t own = sc.stamp[prim];
+    const bool flip = det_positive == ((own & 1u) != 0);
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t nb = o.neighbour[e];
+      if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
+      const DVec2& a = q[e];
+      const DVec2& b = q[e == 2 ? 0 : e + 1];
+      sc.uv.push_back(flip ? UvEdge{b.x, b.y, a.x, a.y} : UvEdge{a.x, a.y, b.x, b.y});
+    }
+  };
+  for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
   ClippedPolygon unclipped;
   for (const uint32_t prim : sc.inside) {
     const ExactOccluder& o = occluders[prim];
@@ -438,26 +505,30 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     for (const uint32_t nb : o.neighbour)
       interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
     if (interior) continue;
+    if (open_ok) {
+      DVec2 q[3];
+      for (int k = 0; k < 3; ++k) q[k] = open_uv(proj.homogeneous(o.v[k]));
+      emit_open(prim, q);
+      continue;
+    }
     clip_polygon(proj, o.v, 3, unclipped);
     emit(prim, unclipped);
   }
-  if (sc.edges.empty() && semi.empty()) return r;
+  if (sc.edges.empty() && sc.uv.empty() && semi.empty()) return r;
 
-  const LightOutline& outline = light.outline();
+  if (open_ok) {
+    // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
+    // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
+    append_uv_edges(sc.edges, sc.uv);
+    const double v = uncovered_square_area(sc.uv) / outline.area;
+    r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
+    r.visible_rgb = DVec3(r.visible);
+    return r;
+  }
   // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need the
   // hash.
   const size_t loop_count = trace_loops(sc.edges, sc.loops, pieces > 0);
   const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
-  if (kept + pieces == 1 && semi.empty() && !outline.round && !light.textured()) {
-    // One convex polygon, already clipped to the uv square that is the whole light: no boolean
-    // (its loops' signed areas, with any degenerate chains', sum to its own).
-    double area = 0.0;
-    for (const ClipperLib::Path& loop : loops) area += ClipperLib::Area(loop);
-    const double v = 1.0 - std::abs(area) / outline.area;
-    r.visible = std::clamp(v, 0.0, 1.0);
-    r.visible_rgb = DVec3(r.visible);
-    return r;
-  }
   const std::vector<LightRegion> regions = visible_regions(outline, loops, semi);
   double visible_area = 0.0;
   for (const LightRegion& region : regions)
@@ -588,7 +659,8 @@ void register_exact(MethodRegistry& registry) {
   info.name = "exact";
   info.summary =
       "analytic visible fraction per pixel: occluders projected onto the light by homogeneous "
-      "clipping, union area with exact integer polygon booleans (no samples)";
+      "clipping, uncovered area by a scanline sweep over their silhouette edges (integer polygon "
+      "booleans for round or textured lights and semi-opaque occluders; no samples)";
   info.reference =
       "Penumbra's analytic reference: V_coef [Forest 2008 eq. 2.10], semi-opaque occluders "
       "[Forest 2008 §4.3.3] (docs/references.md)";

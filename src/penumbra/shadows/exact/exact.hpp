@@ -1,7 +1,9 @@
 // `exact`: the analytic reference. Per receiver point, every occluder polygon between the point
 // and the light is projected onto the light's uv square (exactly, by homogeneous clipping), and
-// the visible fraction is the area of the light left uncovered, measured with exact integer
-// polygon booleans (Clipper) — no light samples (docs/methods/exact.md). It is the
+// the visible fraction is the area of the light left uncovered, measured by a scanline sweep over
+// the projected silhouette's edges (union_area.hpp), or with exact integer polygon booleans
+// (Clipper) for round or textured lights and semi-opaque occluders — no light samples
+// (docs/methods/exact.md). It is the
 // V_coef of [Forest 2008 eq. 2.10] integrated exactly: alpha-textured occluders are cut into their
 // opaque texel runs, semi-opaque ones multiply by their transmittance per crossing
 // [Forest 2008 §4.3.3], textured lights weight the light by texel.
@@ -108,6 +110,8 @@ class ExactScene {
   const std::vector<ExactSolid>& solids() const { return solids_; }
   /// One per BVH node (empty when there are no solids).
   const std::vector<ExactNodeCone>& node_cones() const { return node_cones_; }
+  /// Some occluder is semi-opaque (0 < transmittance < 1).
+  bool semi_opaque() const { return semi_opaque_; }
 
  private:
   const Scene* scene_;
@@ -117,6 +121,7 @@ class ExactScene {
   std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
   std::vector<ExactNodeCone> node_cones_;
+  bool semi_opaque_ = false;
 };
 
 /// Everything about one light that does not depend on the receiver: its uv outline (square or

@@ -460,6 +460,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
       }
     }
     o.normal = glm::cross(o.v[1] - o.v[0], o.v[2] - o.v[0]);
+    semi_opaque_ = semi_opaque_ || o.transmittance > 0.0;
     occluders_.push_back(o);
     occluder_mesh.push_back(items[k].mesh);
     boxes.push_back(box);

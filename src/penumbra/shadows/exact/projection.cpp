@@ -96,6 +96,25 @@ void drop_collinear(Path& loop) {
   while (loop.size() >= 3 && collinear(loop.back(), loop[0], loop[1])) loop.erase(loop.begin());
 }
 
+/// The clip half-spaces as f(U, V, W) ≥ 0 of a homogeneous point h = (U, V, W), in the order
+/// clip_polygon applies them. The apex cut comes first so the later planes only see W > 0.
+double clip_value(int plane, const DVec3& h) {
+  switch (plane) {
+    case 0:
+      return h.z - kMinW;
+    case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
+      return kShadowSegmentEnd - h.z;
+    case 2:
+      return h.x;
+    case 3:
+      return h.z - h.x;
+    case 4:
+      return h.y;
+    default:
+      return h.z - h.y;
+  }
+}
+
 }  // namespace
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
@@ -170,21 +189,23 @@ int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
   // k holds nothing the clip keeps (tighter than box_meets_pyramid, which stops at W = 0 and 1).
   // Both ends carry a relative margin of 1e-9, far above the rounding of either computation.
   // Eight lanes without branches, so the compiler vectorises the loop.
-  const double lx = lo.x - proj.origin.x, ly = lo.y - proj.origin.y, lz = lo.z - proj.origin.z;
-  const double hx = hi.x - proj.origin.x, hy = hi.y - proj.origin.y, hz = hi.z - proj.origin.z;
-  const double bx = std::max(std::abs(lx), std::abs(hx)), by = std::max(std::abs(ly), std::abs(hy)),
-               bz = std::max(std::abs(lz), std::abs(hz));
+  // Centre and half extent: f at the centre ± Σ |n_i|·extent_i bound f over the box (their
+  // rounding in double is far below the margin).
+  const double cx = 0.5 * (static_cast<double>(lo.x) + hi.x) - proj.origin.x;
+  const double cy = 0.5 * (static_cast<double>(lo.y) + hi.y) - proj.origin.y;
+  const double cz = 0.5 * (static_cast<double>(lo.z) + hi.z) - proj.origin.z;
+  const double ex = 0.5 * (static_cast<double>(hi.x) - lo.x);
+  const double ey = 0.5 * (static_cast<double>(hi.y) - lo.y);
+  const double ez = 0.5 * (static_cast<double>(hi.z) - lo.z);
+  const double bx = std::abs(cx) + ex, by = std::abs(cy) + ey, bz = std::abs(cz) + ez;
   const LightProjection::Lanes& l = proj.lanes;
   int outside = 0, inside = 0;
   for (int k = 0; k < 8; ++k) {
-    const double x0 = l.nx[k] * lx, x1 = l.nx[k] * hx;
-    const double y0 = l.ny[k] * ly, y1 = l.ny[k] * hy;
-    const double z0 = l.nz[k] * lz, z1 = l.nz[k] * hz;
-    const double min_f = l.c[k] + std::min(x0, x1) + std::min(y0, y1) + std::min(z0, z1);
-    const double max_f = l.c[k] + std::max(x0, x1) + std::max(y0, y1) + std::max(z0, z1);
+    const double f = l.c[k] + l.nx[k] * cx + l.ny[k] * cy + l.nz[k] * cz;
+    const double r = l.ax[k] * ex + l.ay[k] * ey + l.az[k] * ez;
     const double margin = 1e-9 * (l.ac[k] + l.ax[k] * bx + l.ay[k] * by + l.az[k] * bz);
-    outside |= max_f < -margin ? 1 : 0;
-    inside += min_f > margin ? 1 : 0;
+    outside |= f + r < -margin ? 1 : 0;
+    inside += f - r > margin ? 1 : 0;
   }
   if (outside) return ExactBvh::kOutside;
   return inside == 8 ? ExactBvh::kInside : ExactBvh::kPartial;
@@ -192,6 +213,34 @@ int classify_box(const LightProjection& proj, const Vec3& lo, const Vec3& hi) {
 
 void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
                   ClippedPolygon& out) {
+  out.n = 0;
+  if (count < 3 || count > kMaxPolygon) return;
+  DVec3 h[kMaxPolygon];
+  for (int i = 0; i < count; ++i) h[i] = proj.homogeneous(vertices[i]);
+  clip_homogeneous(h, count, out);
+}
+
+int classify_homogeneous(const DVec3* h, int count) {
+  // clip_value of every plane, without the switch: per plane the number of vertices failing it.
+  int fails[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < count; ++i) {
+    const DVec3& q = h[i];
+    fails[0] += q.z - kMinW >= 0.0 ? 0 : 1;
+    fails[1] += kShadowSegmentEnd - q.z >= 0.0 ? 0 : 1;
+    fails[2] += q.x >= 0.0 ? 0 : 1;
+    fails[3] += q.z - q.x >= 0.0 ? 0 : 1;
+    fails[4] += q.y >= 0.0 ? 0 : 1;
+    fails[5] += q.z - q.y >= 0.0 ? 0 : 1;
+  }
+  int any = 0;
+  for (int plane = 0; plane < 6; ++plane) {
+    if (fails[plane] == count) return ExactBvh::kOutside;
+    any += fails[plane];
+  }
+  return any == 0 ? ExactBvh::kInside : ExactBvh::kPartial;
+}
+
+void clip_homogeneous(const DVec3* h, int count, ClippedPolygon& out) {
   out.n = 0;
   if (count < 3 || count > kMaxPolygon) return;
   constexpr int kCapacity = ClippedPolygon::kCapacity;
@@ -203,33 +252,16 @@ void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
   int8_t* next_edge = edge_b;
   int n = count;
   for (int i = 0; i < count; ++i) {
-    in[i] = proj.homogeneous(vertices[i]);
+    in[i] = h[i];
     in_edge[i] = static_cast<int8_t>(i);
   }
 
-  // Half-spaces f(U, V, W) ≥ 0. The apex cut comes first so the later planes only see W > 0.
-  const auto f = [](int plane, const DVec3& h) {
-    switch (plane) {
-      case 0:
-        return h.z - kMinW;
-      case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
-        return kShadowSegmentEnd - h.z;
-      case 2:
-        return h.x;
-      case 3:
-        return h.z - h.x;
-      case 4:
-        return h.y;
-      default:
-        return h.z - h.y;
-    }
-  };
   for (int plane = 0; plane < 6 && n > 0; ++plane) {
     int m = 0;
     bool all_inside = true;
     double fv[kCapacity];
     for (int i = 0; i < n; ++i) {
-      fv[i] = f(plane, in[i]);
+      fv[i] = clip_value(plane, in[i]);
       all_inside &= fv[i] >= 0.0;
     }
     if (all_inside) continue;

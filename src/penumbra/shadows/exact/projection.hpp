@@ -98,6 +98,15 @@ struct ClippedPolygon {
 void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
                   ClippedPolygon& out);
 
+/// The convex polygon with homogeneous vertices h[0, count) against the clip half-spaces, from
+/// the same values clip_polygon tests: ExactBvh::kInside when every vertex passes every
+/// half-space (clip_polygon returns the vertices unchanged), kOutside when all fail one (up to
+/// points made by rounding on that plane, clip_polygon leaves nothing), else kPartial.
+int classify_homogeneous(const DVec3* h, int count);
+/// clip_polygon from the vertices' homogeneous coordinates (LightProjection::homogeneous): the
+/// same output.
+void clip_homogeneous(const DVec3* h, int count, ClippedPolygon& out);
+
 /// One directed edge of a closed chain of light-uv segments.
 struct DirectedEdge {
   ClipperLib::IntPoint from, to;

@@ -1,0 +1,315 @@
+#include "penumbra/shadows/exact/union_area.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace penumbra {
+
+namespace {
+
+/// A non-horizontal edge, from its lower end: x(y) = x0 + (y − y0)·slope on [y0, y1].
+struct SweepEdge {
+  double y0, y1, x0, x1, slope;
+  int dir;  // +1 going up, −1 going down: the winding number's step across it
+};
+
+/// An edge crossing the current beam [ya, yb]: its abscissae at both ends and at the middle.
+struct Crossing {
+  uint32_t edge;
+  int dir;
+  double xa, xb, x;
+  // integrate_by_swaps: the winding number left of the edge, its coefficient in the uncovered
+  // width (+1: an uncovered interval ends here, −1: one starts, 0: neither) and since when.
+  int w_left = 0, coefficient = 0;
+  double since = 0.0;
+};
+
+/// Two edges, `left` left of `right` at the beam's bottom, crossing at ordinate y.
+struct Swap {
+  double y;
+  uint32_t left, right;
+};
+
+/// The area of one beam [ya, yb] whose edges cross: the uncovered width is
+/// Σ coefficient_i · x_i(y) (+ the side when the field is 0 right of the last edge), and at a
+/// crossing only the two edges that swap change coefficient, so each edge's term is integrated
+/// exactly (linear x, midpoint rule) over the runs where its coefficient is constant. `active`
+/// is in bottom order and ends in top order; false (area unchanged) when a swap's two edges are
+/// not neighbours at its turn (several crossings at one point, or close ones that rounding
+/// reordered): the caller then splits the beam.
+bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossing>& active,
+                        std::vector<Swap>& swaps, std::vector<uint32_t>& pos, double ya, double yb,
+                        double side, double& area) {
+  std::sort(swaps.begin(), swaps.end(), [](const Swap& a, const Swap& b) { return a.y < b.y; });
+  int w = 0;
+  for (size_t k = 0; k < active.size(); ++k) {
+    Crossing& c = active[k];
+    pos[c.edge] = static_cast<uint32_t>(k);
+    c.w_left = w;
+    w += c.dir;
+    c.coefficient = (c.w_left == 0 ? 1 : 0) - (w == 0 ? 1 : 0);
+    c.since = ya;
+  }
+  double sum = 0.0;
+  const auto flush = [&](Crossing& c, double y) {
+    if (c.coefficient != 0) {
+      const SweepEdge& e = sweep[c.edge];
+      sum += c.coefficient * (y - c.since) * (e.x0 + (0.5 * (y + c.since) - e.y0) * e.slope);
+    }
+    c.since = y;
+  };
+  for (const Swap& s : swaps) {
+    const uint32_t p = pos[s.left], q = pos[s.right];
+    if (q != p + 1) return false;
+    flush(active[p], s.y);
+    flush(active[q], s.y);
+    std::swap(active[p], active[q]);
+    pos[s.right] = p;
+    pos[s.left] = q;
+    Crossing& a = active[p];
+    Crossing& b = active[q];
+    a.w_left = b.w_left;
+    b.w_left = a.w_left + a.dir;
+    a.coefficient = (a.w_left == 0 ? 1 : 0) - (b.w_left == 0 ? 1 : 0);
+    b.coefficient = (b.w_left == 0 ? 1 : 0) - (b.w_left + b.dir == 0 ? 1 : 0);
+  }
+  for (Crossing& c : active) flush(c, yb);
+  area += sum + (w == 0 ? (yb - ya) * side : 0.0);
+  return true;
+}
+
+/// Sorts by x; the array is nearly sorted from one beam to the next, so insertion sort is linear
+/// in practice.
+void sort_by_x(std::vector<Crossing>& active) {
+  for (size_t i = 1; i < active.size(); ++i) {
+    const Crossing key = active[i];
+    size_t j = i;
+    while (j > 0 && active[j - 1].x > key.x) {
+      active[j] = active[j - 1];
+      --j;
+    }
+    active[j] = key;
+  }
+}
+
+/// The total length of [0, side] where the winding number is 0, from the edges crossing one
+/// horizontal line, sorted by their x there (those along the right side left out).
+double uncovered_width(const std::vector<Crossing>& sorted, double side) {
+  int w = 0;
+  double prev = 0.0, width = 0.0;
+  for (const Crossing& c : sorted) {
+    const double x = std::clamp(c.x, 0.0, side);
+    width += w == 0 ? x - prev : 0.0;
+    w += c.dir;
+    prev = x;
+  }
+  return width + (w == 0 ? side - prev : 0.0);
+}
+
+}  // namespace
+
+void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& out) {
+  for (const DirectedEdge& e : edges)
+    out.push_back({static_cast<double>(e.from.X), static_cast<double>(e.from.Y),
+                   static_cast<double>(e.to.X), static_cast<double>(e.to.Y)});
+}
+
+double uncovered_square_area(std::span<const UvEdge> edges) {
+  const double side = kUvScale;
+  struct Start {
+    double y0;
+    uint32_t edge;
+  };
+  thread_local std::vector<SweepEdge> sweep;
+  thread_local std::vector<Start> order;  // the edges by lower end
+  thread_local std::vector<double> cuts;
+  thread_local std::vector<Crossing> active;
+  thread_local std::vector<SweepEdge> left;
+  thread_local std::vector<Crossing> by_top;
+  thread_local std::vector<Swap> swaps;
+  thread_local std::vector<uint32_t> pos;
+  sweep.clear();
+  order.clear();
+  left.clear();
+  const auto add = [&](double y0, double y1, double x0, double x1, double slope, int dir) {
+    order.push_back({y0, static_cast<uint32_t>(sweep.size())});
+    sweep.push_back({y0, y1, x0, x1, slope, dir});
+  };
+  for (const UvEdge& e : edges) {
+    if (e.y0 == e.y1) continue;  // horizontal: never crosses a line inside a beam
+    const bool up = e.y0 < e.y1;
+    double x0 = up ? e.x0 : e.x1, y0 = up ? e.y0 : e.y1;
+    double x1 = up ? e.x1 : e.x0, y1 = up ? e.y1 : e.y0;
+    if (!(y1 > 0.0 && y0 < side)) continue;  // no row of the square crosses it
+    if (x0 >= side && x1 >= side) continue;  // right of the square: changes nothing in it
+    const int dir = up ? 1 : -1;
+    // Rows outside the square are not measured: the parts beyond them are cut off.
+    const double slope = (x1 - x0) / (y1 - y0);
+    if (y0 < 0.0) {
+      x0 += (0.0 - y0) * slope;
+      y0 = 0.0;
+    }
+    if (y1 > side) {
+      x1 -= (y1 - side) * slope;
+      y1 = side;
+    }
+    // The part left of the square acts on it as its shadow on u = 0; the part right of it not
+    // at all. Split there, so that no edge crosses a side of the square inside a beam (the
+    // uncovered width would not be linear in y there).
+    const auto split_y = [&](double x) {
+      return std::clamp(y0 + (x - x0) * ((y1 - y0) / (x1 - x0)), y0, y1);
+    };
+    if ((x0 < 0.0 && x1 > 0.0) || (x0 > 0.0 && x1 < 0.0)) {
+      const double y = split_y(0.0);
+      if (x0 < 0.0) {
+        left.push_back({y0, y, 0.0, 0.0, 0.0, dir});
+        x0 = 0.0;
+        y0 = y;
+      } else {
+        left.push_back({y, y1, 0.0, 0.0, 0.0, dir});
+        x1 = 0.0;
+        y1 = y;
+      }
+    } else if (x0 <= 0.0 && x1 <= 0.0) {
+      left.push_back({y0, y1, 0.0, 0.0, 0.0, dir});
+      continue;
+    }
+    if (x0 >= side && x1 >= side) continue;  // (the rows' cut may have moved it right)
+    if ((x0 < side && x1 > side) || (x0 > side && x1 < side)) {
+      const double y = split_y(side);
+      if (x0 > side) {
+        x0 = side;
+        y0 = y;
+      } else {
+        x1 = side;
+        y1 = y;
+      }
+    }
+    if (!(y1 > y0)) continue;
+    add(y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir);
+  }
+  // Edges along the left side (one per triangle clipped there): contiguous runs of one
+  // direction merged into one edge each, the same field with fewer beams.
+  std::sort(left.begin(), left.end(), [](const SweepEdge& a, const SweepEdge& b) {
+    return a.dir != b.dir ? a.dir < b.dir : a.y0 < b.y0;
+  });
+  for (size_t i = 0; i < left.size();) {
+    SweepEdge run = left[i++];
+    for (; i < left.size() && left[i].dir == run.dir && left[i].y0 == run.y1; ++i)
+      run.y1 = left[i].y1;
+    add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
+  }
+  if (sweep.empty()) return side * side;
+  if (pos.size() < sweep.size()) pos.resize(sweep.size());
+  std::sort(order.begin(), order.end(), [](const Start& a, const Start& b) {
+    return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
+  });
+  const auto lower_end = [&](size_t k) { return order[k].y0; };
+
+  // Below the lowest ordinate no edge is crossed: the field is 0 (and above the highest).
+  double ya = lower_end(0);
+  double area = ya * side;
+  active.clear();
+  size_t next = 0;
+  while (true) {
+    // Edges ending at ya leave (in place, keeping the order), edges starting there enter; yb is
+    // the next ordinate where an edge starts or ends.
+    double yb = side;
+    size_t kept = 0;
+    for (const Crossing& c : active) {
+      const double y1 = sweep[c.edge].y1;
+      if (y1 > ya) {
+        active[kept++] = c;
+        yb = std::min(yb, y1);
+      }
+    }
+    active.resize(kept);
+    for (; next < order.size() && lower_end(next) <= ya; ++next) {
+      const uint32_t k = order[next].edge;
+      const SweepEdge& e = sweep[k];
+      active.push_back({k, e.dir, e.x0, e.x0, e.x0});
+      yb = std::min(yb, e.y1);
+    }
+    if (next < order.size()) yb = std::min(yb, lower_end(next));
+    if (active.empty()) {
+      if (next == order.size()) break;
+      area += (yb - ya) * side;
+      ya = yb;
+      continue;
+    }
+    const double h = yb - ya;
+    for (Crossing& c : active) {
+      const SweepEdge& e = sweep[c.edge];
+      // End points exactly: edges meeting at a vertex then meet in x too, never a false crossing.
+      c.xa = ya == e.y0 ? e.x0 : e.x0 + (ya - e.y0) * e.slope;
+      c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
+    }
+    // Order at ya, ties by the order at yb (nearly sorted already: the previous beam's order at
+    // its top, plus the edges that just started).
+    bool ordered = true;
+    for (size_t i = 1; i < active.size(); ++i) {
+      const Crossing key = active[i];
+      size_t j = i;
+      while (j > 0 && (active[j - 1].xa > key.xa ||
+                       (active[j - 1].xa == key.xa && active[j - 1].xb > key.xb))) {
+        active[j] = active[j - 1];
+        --j;
+      }
+      active[j] = key;
+    }
+    for (size_t i = 1; i < active.size(); ++i) ordered &= active[i - 1].xb <= active[i].xb;
+    if (ordered) {
+      // In order at both ends, so no two edges cross inside the beam: the uncovered width is
+      // linear in y there, and its value at the middle times the height is the beam's exact area.
+      for (Crossing& c : active) c.x = 0.5 * (c.xa + c.xb);
+      area += h * uncovered_width(active, side);
+      ya = yb;
+      continue;
+    }
+    // Insertion-sort a copy by the order at yb: every swap is one pair whose order differs at
+    // the two ends, i.e. that crosses inside the beam.
+    swaps.clear();
+    by_top.assign(active.begin(), active.end());
+    for (size_t i = 1; i < by_top.size(); ++i) {
+      const Crossing key = by_top[i];
+      size_t j = i;
+      while (j > 0 && by_top[j - 1].xb > key.xb) {
+        const Crossing& left = by_top[j - 1];
+        if (left.xa < key.xa) {  // strictly left at ya, strictly right at yb
+          const double da = left.xa - key.xa, db = left.xb - key.xb;
+          swaps.push_back({std::clamp(ya + h * (da / (da - db)), ya, yb), left.edge, key.edge});
+        }
+        by_top[j] = by_top[j - 1];
+        --j;
+      }
+      by_top[j] = key;
+    }
+    if (integrate_by_swaps(sweep, active, swaps, pos, ya, yb, side, area)) {
+      ya = yb;
+      continue;
+    }
+    // Swaps not between neighbours (several crossings at one point, or rounding reordered close
+    // ones): split the beam at every crossing instead, each piece crossing-free.
+    cuts.clear();
+    for (const Swap& w : swaps)
+      if (w.y > ya && w.y < yb) cuts.push_back(w.y);
+    std::sort(cuts.begin(), cuts.end());
+    cuts.push_back(yb);
+    double lo = ya;
+    for (const double hi : cuts) {
+      if (!(hi > lo)) continue;
+      const double mid = 0.5 * (lo + hi);
+      for (Crossing& c : active) {
+        const SweepEdge& e = sweep[c.edge];
+        c.x = e.x0 + (mid - e.y0) * e.slope;
+      }
+      sort_by_x(active);
+      area += (hi - lo) * uncovered_width(active, side);
+      lo = hi;
+    }
+    ya = yb;
+  }
+  return area + (side - ya) * side;
+}
+
+}  // namespace penumbra

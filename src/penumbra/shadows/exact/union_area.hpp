@@ -1,0 +1,36 @@
+// The measure of the light left uncovered by a set of closed chains of light-uv segments, without
+// building the union's outline: the exact reference needs only that area (untextured rectangular
+// lights, opaque occluders), and a scanline sweep gets it from the edges directly — no loops,
+// no integer rounding of intersection points, no output polygons.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "penumbra/shadows/exact/projection.hpp"
+
+namespace penumbra {
+
+/// A directed light-uv segment in Clipper units (uv × kUvScale), not rounded: (x0, y0) → (x1, y1).
+struct UvEdge {
+  double x0, y0, x1, y1;
+};
+/// `edges` as UvEdges, appended to `out`.
+void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& out);
+
+/// Area (Clipper units²) of the points of the uv square [0, kUvScale]² where the winding number
+/// of `edges` is 0. `edges` must be a union of closed chains (as many edges arrive at every point
+/// as leave it), e.g. the outlines of the projected occluder polygons, or their silhouette from
+/// adjacency; opposite copies of one segment may be present (they cancel). The chains may reach
+/// outside the square (only the field inside it is measured). For positively oriented polygons
+/// that is the square minus the non-zero union of the polygons.
+///
+/// Sweep in v: between consecutive vertex ordinates the edges crossing a beam are straight, so
+/// the uncovered width is piecewise linear in v with kinks only where two edges cross; beams
+/// whose edges keep their order from bottom to top are integrated exactly by the midpoint rule,
+/// the others are split at the crossings first. Everything in double: the result is the area of
+/// the edges' winding field to ~1e-16 relative (Clipper's union rounds every intersection point
+/// to the integer grid, ~1e-9 of the light's side).
+double uncovered_square_area(std::span<const UvEdge> edges);
+
+}  // namespace penumbra
