@@ -112,6 +112,19 @@ void check_memory(const RenderArgs& args, const Camera& camera, size_t lights, s
   throw Error(text);
 }
 
+/// The frame's size when --size gives a valid one (an invalid one is reported after the scene's
+/// own errors, as before the scene was loaded beside the G-buffer's allocation).
+std::optional<Camera> size_option(const std::string& size) {
+  if (size.empty()) return std::nullopt;
+  Camera camera;
+  try {
+    parse_size(size, camera);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  return camera;
+}
+
 void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   write_text_file(path, j.dump(2) + "\n");
 }
@@ -120,11 +133,14 @@ void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
 /// the breakdown line printed at the end. Every stage is wall time on the main thread; other_ms is
 /// the rest of elapsed_ms (CLI parsing, the checks of Frame::run's results, stats.json). Not in
 /// it: the dynamic loader before static initialisation and the exit after the last stats.json.
+/// Work run beside a stage is inside that stage's wall time and listed apart, in "overlapped",
+/// never added to the sum.
 struct ProcessCosts {
-  double startup_ms = 0.0;  // static initialisation → the render command's start
-  double load_ms = 0.0;     // the scene and its meshes
-  double setup_ms = 0.0;    // methods, options, memory check, output folder
-  double aovs_ms = 0.0;     // --aov files
+  double startup_ms = 0.0;         // static initialisation → the render command's start
+  double load_ms = 0.0;            // the scene and its meshes
+  double gbuffer_layers_ms = 0.0;  // beside load_ms: the G-buffer's allocation (with --size)
+  double setup_ms = 0.0;           // methods, options, memory check, output folder
+  double aovs_ms = 0.0;            // --aov files
   double methods_ms = 0.0;  // every Frame::run so far (the methods' own times and their checks)
   double outputs_ms = 0.0;  // every method's comparison, images and stats so far
 
@@ -136,10 +152,12 @@ struct ProcessCosts {
     if (aovs_ms > 0.0) frame["aovs_ms"] = aovs_ms;
     frame["methods_ms"] = methods_ms;
     frame["outputs_ms"] = outputs_ms;
+    if (gbuffer_layers_ms > 0.0) frame["overlapped"]["gbuffer_layers_ms"] = gbuffer_layers_ms;
     const double elapsed = elapsed_ms(process_start());
     double accounted = 0.0;
     for (const auto& [key, value] : frame.items())
-      if (key != "other_ms" && key != "elapsed_ms") accounted += value.get<double>();
+      if (value.is_number() && key != "other_ms" && key != "elapsed_ms")
+        accounted += value.get<double>();
     frame["other_ms"] = std::max(0.0, elapsed - accounted);
     frame["elapsed_ms"] = elapsed;
   }
@@ -154,13 +172,24 @@ void print_costs(const nlohmann::json& frame) {
       {"receivers_ms", "receivers"}, {"irradiance_ms", "irradiance"},
       {"aovs_ms", "AOVs"},           {"methods_ms", "methods"},
       {"outputs_ms", "outputs"},     {"other_ms", "other"}};
+  // Overlapped work, after the stage it ran beside.
+  static const std::pair<const char*, std::pair<const char*, const char*>> kBeside[] = {
+      {"load_ms", {"gbuffer_layers_ms", "G-buffer layers"}},
+      {"methods_ms", {"irradiance_background_ms", "irradiance"}}};
   std::string line = "frame:";
   for (const auto& [key, name] : kStages)
     if (frame.contains(key)) {
-      char part[64];
+      char part[96];
       std::snprintf(part, sizeof part, "%s %s %.0f", line.size() > 6 ? " +" : "", name,
                     frame[key].get<double>());
       line += part;
+      for (const auto& [stage, beside] : kBeside)
+        if (stage == std::string_view(key) && frame.contains("overlapped") &&
+            frame["overlapped"].contains(beside.first)) {
+          std::snprintf(part, sizeof part, " (beside it: %s %.0f)", beside.second,
+                        frame["overlapped"][beside.first].get<double>());
+          line += part;
+        }
     }
   std::fprintf(stderr, "%s = %.0f ms (stats.json \"frame\")\n", line.c_str(),
                frame["elapsed_ms"].get<double>());
@@ -171,7 +200,24 @@ void run_render(const RenderArgs& args) {
   ProcessCosts costs;
   costs.startup_ms =
       std::chrono::duration<double, std::milli>(command_start - process_start()).count();
-  Scene scene = load_scene(args.scene, to_framing(args.framing));
+  // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
+  // mostly the first touch of their pages) are allocated on the other cores while this one reads
+  // the scene — unless they alone would take half the memory left (check_memory then refuses the
+  // frame with its message, below).
+  GBuffer layers;
+  Scene scene;
+  const std::optional<Camera> sized = size_option(args.size);
+  if (sized &&
+      64 * static_cast<uint64_t>(sized->width) * sized->height < available_memory_bytes() / 2) {
+    tbb::parallel_invoke([&] { scene = load_scene(args.scene, to_framing(args.framing)); },
+                         [&] {
+                           const auto start = std::chrono::steady_clock::now();
+                           layers = background_gbuffer(sized->width, sized->height);
+                           costs.gbuffer_layers_ms = elapsed_ms(start);
+                         });
+  } else {
+    scene = load_scene(args.scene, to_framing(args.framing));
+  }
   costs.load_ms = elapsed_ms(command_start);
   const auto setup_start = std::chrono::steady_clock::now();
   if (!args.size.empty()) parse_size(args.size, scene.camera);
@@ -217,9 +263,11 @@ void run_render(const RenderArgs& args) {
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
                scene.name.c_str(), scene.triangle_count(), scene.lights.size(), scene.camera.width,
                scene.camera.height, spec.k * spec.k, args.pattern.c_str());
-  const Frame frame(scene, spec);
-  // Shared by every method's beauty image: computed once here so outputs_ms is the writing only.
-  for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
+  const Frame frame(scene, spec, std::move(layers));
+  // Shared by every method's beauty image, and independent of the methods: computed beside them
+  // at the lowest priority, finished after the first one (irradiance_ms), so that outputs_ms is
+  // the writing only.
+  frame.start_unshadowed_in_background();
   if (!args.aovs.empty()) {
     const auto aovs_start = std::chrono::steady_clock::now();
     write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
@@ -239,6 +287,7 @@ void run_render(const RenderArgs& args) {
     costs.methods_ms += elapsed_ms(run_start);
     std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
     set_stderr_line_open(false);
+    for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
 
     const auto outputs_start = std::chrono::steady_clock::now();
     const std::filesystem::path dir = several ? out_dir / result.method : out_dir;

@@ -1,7 +1,15 @@
 #include "penumbra/pipeline/frame.hpp"
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
@@ -10,10 +18,10 @@
 
 namespace penumbra {
 
-Frame::Frame(const Scene& scene, const LightSampleSpec& samples)
+Frame::Frame(const Scene& scene, const LightSampleSpec& samples, GBuffer layers)
     : scene_(&scene), embree_(std::make_unique<EmbreeScene>(scene)), samples_(samples) {
   const auto start = std::chrono::steady_clock::now();
-  gbuffer_ = render_gbuffer(*embree_, scene.camera);
+  gbuffer_ = render_gbuffer(*embree_, scene.camera, std::move(layers));
   gbuffer_ms_ = elapsed_ms(start);
   const auto classify_start = std::chrono::steady_clock::now();
   for (const Light& light : scene.lights) {
@@ -24,21 +32,94 @@ Frame::Frame(const Scene& scene, const LightSampleSpec& samples)
   unshadowed_ = std::make_unique<UnshadowedCache>(scene.lights.size());
 }
 
+Frame::UnshadowedCache::~UnshadowedCache() {
+  stop = true;
+  if (background.joinable()) background.join();
+}
+
+void Frame::fill_unshadowed_rows(size_t light) const {
+  UnshadowedLight& u = unshadowed_->lights[light];
+  const int height = gbuffer_.height;
+  for (int y = u.next_row.fetch_add(1); y < height; y = u.next_row.fetch_add(1)) {
+    irradiance_[light].fill_row(gbuffer_, receivers_[light], u.image, y);
+    if (u.rows_done.fetch_add(1) + 1 == height) u.rows_done.notify_all();
+  }
+}
+
 const Image<Vec3>& Frame::unshadowed(size_t light) const {
-  std::call_once(unshadowed_->once.at(light), [&] {
+  UnshadowedLight& u = unshadowed_->lights.at(light);
+  std::call_once(u.once, [&] {
     const auto start = std::chrono::steady_clock::now();
-    Image<Vec3> e(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
-    irradiance_[light].fill(gbuffer_, receivers_[light], e);
-    unshadowed_->images[light] = std::move(e);
-    unshadowed_->ms[light] = elapsed_ms(start);
+    if (u.image.empty()) u.image = Image<Vec3>(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
+    // One task per thread, each taking rows until none is left; then the background thread's
+    // last row, if it is still computing one.
+    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(),
+                      [&](int) { fill_unshadowed_rows(light); });
+    for (int done = u.rows_done.load(); done < gbuffer_.height; done = u.rows_done.load())
+      u.rows_done.wait(done);
+    if (u.error) std::rethrow_exception(u.error);
+    u.ms += elapsed_ms(start);
   });
-  return unshadowed_->images[light];
+  return u.image;
+}
+
+void Frame::start_unshadowed_in_background() const {
+  if (unshadowed_->background.joinable()) return;
+  const auto start = std::chrono::steady_clock::now();
+  // Allocated here, before the thread starts, so that both sides find the images in place.
+  for (size_t l = 0; l < unshadowed_->lights.size(); ++l) {
+    const auto light_start = std::chrono::steady_clock::now();
+    unshadowed_->lights[l].image = Image<Vec3>(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
+    unshadowed_->lights[l].ms += elapsed_ms(light_start);
+  }
+  unshadowed_->background = std::thread([this, start] { fill_unshadowed_in_background(start); });
+}
+
+void Frame::fill_unshadowed_in_background(std::chrono::steady_clock::time_point start) const {
+#ifdef __linux__
+  // Linux's nice value is per thread. Not SCHED_IDLE: unshadowed() may wait for this thread's
+  // current row, and at nice 19 it still gets its share of a core that other processes keep busy.
+  if (::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 19) != 0) return;
+#else
+  return;  // no per-thread priority: the methods would share their cores with this thread
+#endif
+  UnshadowedCache& cache = *unshadowed_;
+  const int height = gbuffer_.height;
+  for (size_t l = 0; l < cache.lights.size(); ++l) {
+    UnshadowedLight& u = cache.lights[l];
+    for (int y = u.next_row.fetch_add(1); y < height; y = u.next_row.fetch_add(1)) {
+      if (!cache.stop) {
+        try {
+          irradiance_[l].fill_row(gbuffer_, receivers_[l], u.image, y);
+        } catch (...) {
+          u.error = std::current_exception();
+          cache.stop = true;
+        }
+      }
+      if (!cache.stop) {
+        cache.background_rows.fetch_add(1);
+        cache.background_ms = elapsed_ms(start);
+      }
+      // A row handed out is always counted, even after a stop or an error: unshadowed() waits
+      // for the count (it rethrows the error).
+      if (u.rows_done.fetch_add(1) + 1 == height) u.rows_done.notify_all();
+      if (cache.stop) return;
+    }
+  }
 }
 
 double Frame::irradiance_ms() const {
   double sum = 0.0;
-  for (double ms : unshadowed_->ms) sum += ms;
+  for (const UnshadowedLight& u : unshadowed_->lights) sum += u.ms;
   return sum;
+}
+
+double Frame::irradiance_background_ms() const {
+  return unshadowed_->background_ms;
+}
+
+int Frame::irradiance_background_rows() const {
+  return unshadowed_->background_rows;
 }
 
 MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options,

@@ -155,6 +155,10 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
                 {"gbuffer_ms", frame.gbuffer_ms()},
                 {"receivers_ms", frame.receivers_ms()},
                 {"irradiance_ms", frame.irradiance_ms()}};
+  // Beside the methods (frame.hpp), so inside methods_ms: not a stage of its own.
+  if (frame.irradiance_background_rows() > 0)
+    j["frame"]["overlapped"] = {{"irradiance_background_ms", frame.irradiance_background_ms()},
+                                {"irradiance_background_rows", frame.irradiance_background_rows()}};
   if (vs_exact) j["error_vs_exact"] = to_json(*vs_exact);
   return j;
 }
