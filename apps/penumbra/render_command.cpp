@@ -303,10 +303,11 @@ void run_render(const RenderArgs& args) {
     }
     std::vector<const Visibility*> per_light;
     for (const Visibility& v : result.per_light) per_light.push_back(&v);
-    const Image<Vec3> beauty = shade(frame, per_light, shading);
-    // The PNG encoder is serial and the EXR one mostly so: the two files are written side by side.
-    tbb::parallel_invoke([&] { write_png_rgb(dir / "beauty.png", beauty); },
-                         [&] { write_visibility(dir, frame, result, format); });
+    // The PNG encoder is serial and the EXR one mostly so: the two files are written side by
+    // side, the beauty shaded beside the EXR too.
+    tbb::parallel_invoke(
+        [&] { write_png_rgb(dir / "beauty.png", shade(frame, per_light, shading)); },
+        [&] { write_visibility(dir, frame, result, format); });
     nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
     stats["shading"] = std::string(to_string(shading));
     stats["backend"] = args.backend;

@@ -151,21 +151,21 @@ int parse_dimension(const char* what, const fs::path& path, const std::string& t
 // ---------------------------------------------------------------------------------------------
 // EXR
 
-void check_layers_for_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
+void check_layers_for_exr(const fs::path& path, const std::vector<FloatLayerView>& layers) {
   constexpr const char* what = "cannot write EXR";
   if (layers.empty()) fail(what, path, "no layers given");
-  const int width = layers.front().pixels.width();
-  const int height = layers.front().pixels.height();
+  const int width = layers.front().pixels->width();
+  const int height = layers.front().pixels->height();
   check_writable_size(what, path, width, height);
   std::set<std::string> names;
-  for (const FloatLayer& layer : layers) {
+  for (const FloatLayerView& layer : layers) {
     if (layer.name.empty()) fail(what, path, "layer with an empty name");
     if (!names.insert(layer.name).second) fail(what, path, "duplicate layer " + quote(layer.name));
-    if (layer.pixels.width() != width || layer.pixels.height() != height) {
+    if (layer.pixels->width() != width || layer.pixels->height() != height) {
       fail(what, path,
-           "layer " + quote(layer.name) + " is " + std::to_string(layer.pixels.width()) + "x" +
-               std::to_string(layer.pixels.height()) + ", expected " + std::to_string(width) + "x" +
-               std::to_string(height));
+           "layer " + quote(layer.name) + " is " + std::to_string(layer.pixels->width()) + "x" +
+               std::to_string(layer.pixels->height()) + ", expected " + std::to_string(width) +
+               "x" + std::to_string(height));
     }
   }
 }
@@ -340,9 +340,16 @@ void write_png_rgb8(const fs::path& path, int width, int height, const std::vect
 // EXR
 
 void write_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
+  std::vector<FloatLayerView> views;
+  views.reserve(layers.size());
+  for (const FloatLayer& layer : layers) views.push_back({layer.name, &layer.pixels});
+  write_exr_views(path, views);
+}
+
+void write_exr_views(const fs::path& path, const std::vector<FloatLayerView>& layers) {
   check_layers_for_exr(path, layers);
-  const int width = layers.front().pixels.width();
-  const int height = layers.front().pixels.height();
+  const int width = layers.front().pixels->width();
+  const int height = layers.front().pixels->height();
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -350,10 +357,10 @@ void write_exr(const fs::path& path, const std::vector<FloatLayer>& layers) {
     // default (level 4: ≈ 54 → 28 ms) for twice the bytes (25 → 54 KB); the pixels are the same.
     header.zipCompressionLevel() = 1;
     Imf::FrameBuffer frame;
-    for (const FloatLayer& layer : layers) {
+    for (const FloatLayerView& layer : layers) {
       header.channels().insert(layer.name, Imf::Channel(Imf::FLOAT));
       frame.insert(layer.name,
-                   Imf::Slice::Make(Imf::FLOAT, layer.pixels.data(), header.dataWindow()));
+                   Imf::Slice::Make(Imf::FLOAT, layer.pixels->data(), header.dataWindow()));
     }
     // ZIP compresses blocks of 16 scanlines independently: OpenEXR's own threads share them.
     const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -19,6 +19,12 @@ struct FloatLayer {
   Image<float> pixels;
 };
 
+/// A FloatLayer that refers to its pixels (kept alive by the caller) instead of holding a copy.
+struct FloatLayerView {
+  std::string name;
+  const Image<float>* pixels;
+};
+
 /// Linear -> sRGB transfer function (IEC 61966-2-1, piecewise); input clamped to [0,1], NaN -> 0.
 float linear_to_srgb(float linear);
 /// Linear value -> 8-bit sRGB code (clamped, rounded to nearest).
@@ -33,6 +39,8 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
 /// Writes one 32-bit FLOAT channel per layer, channel name = layer name, ZIP compression (zlib
 /// level 1). All layers must have the same non-zero size and distinct non-empty names.
 void write_exr(const std::filesystem::path& path, const std::vector<FloatLayer>& layers);
+/// The same, from layers that refer to their pixels.
+void write_exr_views(const std::filesystem::path& path, const std::vector<FloatLayerView>& layers);
 /// Reads every channel of a scanline or tiled EXR as float (HALF/UINT are converted), in file
 /// order (OpenEXR stores channels sorted by name). Pixel (0,0) is the data window's top-left.
 std::vector<FloatLayer> read_exr(const std::filesystem::path& path);

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "penumbra/core/error.hpp"
@@ -138,20 +139,30 @@ MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options,
     if (vis.lit.width() != gbuffer_.width || vis.lit.height() != gbuffer_.height)
       throw Error("method '" + info.name + "' returned an image of the wrong size");
     const Image<uint8_t>& classes = receivers_[l];
-    for (size_t i = 0; i < vis.lit.size(); ++i) {
-      if (classes[i] == kBackground) vis.lit[i] = 1.0f;
-      if (classes[i] == kBackFacing) vis.lit[i] = 0.0f;
-      if (!std::isfinite(vis.lit[i]))
-        throw Error("method '" + info.name + "' produced a non-finite value at pixel " +
-                    std::to_string(i));
-      if (vis.lit_rgb) {
-        Vec3& rgb = (*vis.lit_rgb)[i];
-        if (classes[i] != kActive) rgb = Vec3(vis.lit[i]);
-        if (!is_finite(rgb))
-          throw Error("method '" + info.name + "' produced a non-finite colour at pixel " +
-                      std::to_string(i));
+    // In parallel chunks; the first non-finite pixel is the one reported, as by a serial pass.
+    constexpr size_t kNone = std::numeric_limits<size_t>::max();
+    std::atomic<size_t> first_bad{kNone};
+    parallel_chunks(vis.lit.size(), size_t{1} << 16, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        if (classes[i] == kBackground) vis.lit[i] = 1.0f;
+        if (classes[i] == kBackFacing) vis.lit[i] = 0.0f;
+        bool finite = std::isfinite(vis.lit[i]);
+        if (finite && vis.lit_rgb) {
+          Vec3& rgb = (*vis.lit_rgb)[i];
+          if (classes[i] != kActive) rgb = Vec3(vis.lit[i]);
+          finite = is_finite(rgb);
+        }
+        if (!finite) {
+          for (size_t seen = first_bad; i < seen && !first_bad.compare_exchange_weak(seen, i);) {
+          }
+          return;
+        }
       }
-    }
+    });
+    if (const size_t i = first_bad; i != kNone)
+      throw Error("method '" + info.name + "' produced a non-finite " +
+                  (std::isfinite(vis.lit[i]) ? "colour" : "value") + " at pixel " +
+                  std::to_string(i));
     result.per_light.push_back(std::move(vis));
   }
   return result;
