@@ -60,12 +60,12 @@ class Frame {
   /// were shared.
   const Image<Vec3>& unshadowed(size_t light) const;
 
-  /// Starts computing unshadowed() of every light on one thread of the lowest priority (nice 19):
-  /// it takes rows while a core would otherwise idle, as in a method's serial stages, and yields
-  /// its core to the method's threads otherwise (≈ 1/70 of a core's time when both want one), so
-  /// the methods' own times are not lengthened. unshadowed() then computes the rows it has not
-  /// reached. Call once, before any unshadowed(); without it (or where the thread's priority
-  /// cannot be lowered) unshadowed() computes every row.
+  /// Starts computing unshadowed() of every light on one thread of the lowest priority (Linux's
+  /// SCHED_IDLE): it takes rows while a core would otherwise idle, as in a method's serial stages,
+  /// and gives its core up as soon as a method's thread wants it, so the methods' own times are
+  /// not lengthened. unshadowed() then computes the rows it has not reached. Call once, before any
+  /// unshadowed(); without it (or where the thread's priority cannot be lowered) unshadowed()
+  /// computes every row.
   void start_unshadowed_in_background() const;
   /// Wall time from start_unshadowed_in_background to the background thread's last row, and the
   /// rows it computed (all lights).
