@@ -1,13 +1,19 @@
-// Tests for the frame's shared stages run beside others (pipeline/frame.hpp): the G-buffer traced
-// into layers allocated beforehand, and the unshadowed irradiance computed on a background thread
-// while a method runs, must give the images computed the plain way, bit for bit.
+// Tests for the frame's shared stages run beside others or fused (pipeline/frame.hpp): the
+// G-buffer traced into layers allocated beforehand, the unshadowed irradiance computed on a
+// background thread while a method runs, and the beauty PNG shaded a row at a time must give the
+// images computed the plain way, bit for bit.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <thread>
 
+#include "penumbra/io/image_io.hpp"
 #include "penumbra/pipeline/frame.hpp"
+#include "penumbra/pipeline/shading.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 
 namespace penumbra {
@@ -96,6 +102,30 @@ TEST(Frame, UnshadowedBesideAMethodIsTheAllCoresOne) {
     frame.start_unshadowed_in_background();
   }
   EXPECT_EQ(plain.irradiance_background_rows(), 0);
+}
+
+TEST(Frame, BeautyPngFromRowsIsTheShadedImagesPng) {
+  const Scene scene = two_light_scene();
+  LightSampleSpec spec;
+  spec.k = 2;
+  const Frame frame(scene, spec);
+  const MethodInfo& info = MethodRegistry::builtin().get("shadow_map");
+  const MethodResult result = frame.run(info, resolve_options(info, {}), false);
+  const std::vector<const Visibility*> per_light = {&result.per_light[0], &result.per_light[1]};
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  const std::filesystem::path whole = dir / "penumbra_test_frame_whole.png";
+  const std::filesystem::path rows = dir / "penumbra_test_frame_rows.png";
+  write_png_rgb(whole, shade(frame, per_light, ShadingMode::modulate));
+  const RowShader shader(frame, per_light, ShadingMode::modulate);
+  write_png_rgb(rows, scene.camera.width, scene.camera.height,
+                [&](int y, Vec3* out) { shader.row(y, out); });
+  std::ifstream a(whole, std::ios::binary), b(rows, std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {});
+  const std::string bytes_b((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_GT(bytes_a.size(), 1000u);
+  EXPECT_EQ(bytes_a, bytes_b);
+  std::filesystem::remove(whole);
+  std::filesystem::remove(rows);
 }
 
 }  // namespace

@@ -304,9 +304,13 @@ void run_render(const RenderArgs& args) {
     std::vector<const Visibility*> per_light;
     for (const Visibility& v : result.per_light) per_light.push_back(&v);
     // The PNG encoder is serial and the EXR one mostly so: the two files are written side by
-    // side, the beauty shaded beside the EXR too.
+    // side, the beauty shaded beside the EXR too, a row at a time into the PNG's bytes.
+    const RowShader beauty(frame, per_light, shading);
     tbb::parallel_invoke(
-        [&] { write_png_rgb(dir / "beauty.png", shade(frame, per_light, shading)); },
+        [&] {
+          write_png_rgb(dir / "beauty.png", frame.gbuffer().width, frame.gbuffer().height,
+                        [&](int y, Vec3* out) { beauty.row(y, out); });
+        },
         [&] { write_visibility(dir, frame, result, format); });
     nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
     stats["shading"] = std::string(to_string(shading));

@@ -233,17 +233,26 @@ uint8_t linear_to_srgb8(float linear) {
 }
 
 void write_png_rgb(const fs::path& path, const Image<Vec3>& linear_rgb) {
-  check_writable_size("cannot write PNG", path, linear_rgb.width(), linear_rgb.height());
-  std::vector<uint8_t> bytes(linear_rgb.size() * 3);
-  parallel_chunks(linear_rgb.size(), 1 << 14, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      const Vec3& c = linear_rgb[i];
-      bytes[3 * i + 0] = linear_to_srgb8(c.x);
-      bytes[3 * i + 1] = linear_to_srgb8(c.y);
-      bytes[3 * i + 2] = linear_to_srgb8(c.z);
+  const int width = linear_rgb.width();
+  write_png_rgb(path, width, linear_rgb.height(),
+                [&](int y, Vec3* out) { std::copy_n(&linear_rgb(0, y), width, out); });
+}
+
+void write_png_rgb(const fs::path& path, int width, int height,
+                   const std::function<void(int y, Vec3* out)>& rows) {
+  check_writable_size("cannot write PNG", path, width, height);
+  std::vector<uint8_t> bytes(static_cast<size_t>(width) * height * 3);
+  parallel_rows(height, [&](int y) {
+    std::vector<Vec3> row(static_cast<size_t>(width));
+    rows(y, row.data());
+    uint8_t* to = bytes.data() + static_cast<size_t>(y) * width * 3;
+    for (const Vec3& c : row) {
+      *to++ = linear_to_srgb8(c.x);
+      *to++ = linear_to_srgb8(c.y);
+      *to++ = linear_to_srgb8(c.z);
     }
   });
-  write_png_rgb8(path, linear_rgb.width(), linear_rgb.height(), bytes);
+  write_png_rgb8(path, width, height, bytes);
 }
 
 namespace {

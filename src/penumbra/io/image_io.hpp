@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ uint8_t linear_to_srgb8(float linear);
 
 /// Writes linear RGB as an 8-bit sRGB-encoded PNG.
 void write_png_rgb(const std::filesystem::path& path, const Image<Vec3>& linear_rgb);
+/// The same from rows: rows(y, out) writes row y's width linear RGB pixels to out (called on
+/// several threads at once, rows in any order), so that no float image need be kept.
+void write_png_rgb(const std::filesystem::path& path, int width, int height,
+                   const std::function<void(int y, Vec3* out)>& rows);
 /// Writes already-encoded 8-bit RGB bytes (row-major, top row first, 3 bytes per pixel) as PNG.
 void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
