@@ -65,6 +65,16 @@ TEST(Frame, GBufferIntoAllocatedLayersIsTheTracedOne) {
   const GBuffer other = render_gbuffer(embree, scene.camera, background_gbuffer(17, 5));
   EXPECT_EQ(other.width, scene.camera.width);
   expect_same_gbuffer(plain, other);
+  // A Frame given the layers to fill, as `render` gives those it allocated beside the load.
+  LightSampleSpec spec;
+  spec.k = 2;
+  int asked = 0;
+  const Frame frame(scene, spec, [&] {
+    ++asked;
+    return background_gbuffer(scene.camera.width, scene.camera.height);
+  });
+  EXPECT_EQ(asked, 1);
+  expect_same_gbuffer(plain, frame.gbuffer());
 }
 
 TEST(Frame, UnshadowedBesideAMethodIsTheAllCoresOne) {

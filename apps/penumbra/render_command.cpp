@@ -1,5 +1,6 @@
 // `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -138,7 +139,8 @@ void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
 struct ProcessCosts {
   double startup_ms = 0.0;         // static initialisation → the render command's start
   double load_ms = 0.0;            // the scene and its meshes
-  double gbuffer_layers_ms = 0.0;  // beside load_ms: the G-buffer's allocation (with --size)
+  double gbuffer_layers_ms = 0.0;  // the G-buffer's allocation (with --size), beside the load,
+                                   // setup and BVH build
   double setup_ms = 0.0;           // methods, options, memory check, output folder
   double aovs_ms = 0.0;            // --aov files
   double methods_ms = 0.0;  // every Frame::run so far (the methods' own times and their checks)
@@ -172,10 +174,10 @@ void print_costs(const nlohmann::json& frame) {
       {"receivers_ms", "receivers"}, {"irradiance_ms", "irradiance"},
       {"aovs_ms", "AOVs"},           {"methods_ms", "methods"},
       {"outputs_ms", "outputs"},     {"other_ms", "other"}};
-  // Overlapped work, after the stage it ran beside.
+  // Overlapped work, after the last stage it ran beside: {stage, {overlapped key, text}}.
   static const std::pair<const char*, std::pair<const char*, const char*>> kBeside[] = {
-      {"load_ms", {"gbuffer_layers_ms", "G-buffer layers"}},
-      {"methods_ms", {"irradiance_background_ms", "irradiance"}}};
+      {"bvh_build_ms", {"gbuffer_layers_ms", "beside load to BVH: G-buffer layers"}},
+      {"methods_ms", {"irradiance_background_ms", "beside them: irradiance"}}};
   std::string line = "frame:";
   for (const auto& [key, name] : kStages)
     if (frame.contains(key)) {
@@ -186,7 +188,7 @@ void print_costs(const nlohmann::json& frame) {
       for (const auto& [stage, beside] : kBeside)
         if (stage == std::string_view(key) && frame.contains("overlapped") &&
             frame["overlapped"].contains(beside.first)) {
-          std::snprintf(part, sizeof part, " (beside it: %s %.0f)", beside.second,
+          std::snprintf(part, sizeof part, " (%s %.0f)", beside.second,
                         frame["overlapped"][beside.first].get<double>());
           line += part;
         }
@@ -201,23 +203,22 @@ void run_render(const RenderArgs& args) {
   costs.startup_ms =
       std::chrono::duration<double, std::milli>(command_start - process_start()).count();
   // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
-  // mostly the first touch of their pages) are allocated on the other cores while this one reads
-  // the scene — unless they alone would take half the memory left (check_memory then refuses the
-  // frame with its message, below).
+  // mostly the first touch of their pages) are allocated by a task of their own while this thread
+  // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
+  // half the memory left (check_memory then refuses the frame with its message, below). The Frame
+  // waits for them before the primary rays.
   GBuffer layers;
-  Scene scene;
+  tbb::task_group layers_task;
   const std::optional<Camera> sized = size_option(args.size);
-  if (sized &&
-      64 * static_cast<uint64_t>(sized->width) * sized->height < available_memory_bytes() / 2) {
-    tbb::parallel_invoke([&] { scene = load_scene(args.scene, to_framing(args.framing)); },
-                         [&] {
-                           const auto start = std::chrono::steady_clock::now();
-                           layers = background_gbuffer(sized->width, sized->height);
-                           costs.gbuffer_layers_ms = elapsed_ms(start);
-                         });
-  } else {
-    scene = load_scene(args.scene, to_framing(args.framing));
-  }
+  const bool layers_beside = sized && 64 * static_cast<uint64_t>(sized->width) * sized->height <
+                                          available_memory_bytes() / 2;
+  if (layers_beside)
+    layers_task.run([&] {
+      const auto start = std::chrono::steady_clock::now();
+      layers = background_gbuffer(sized->width, sized->height);
+      costs.gbuffer_layers_ms = elapsed_ms(start);
+    });
+  Scene scene = load_scene(args.scene, to_framing(args.framing));
   costs.load_ms = elapsed_ms(command_start);
   const auto setup_start = std::chrono::steady_clock::now();
   if (!args.size.empty()) parse_size(args.size, scene.camera);
@@ -263,7 +264,10 @@ void run_render(const RenderArgs& args) {
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
                scene.name.c_str(), scene.triangle_count(), scene.lights.size(), scene.camera.width,
                scene.camera.height, spec.k * spec.k, args.pattern.c_str());
-  const Frame frame(scene, spec, std::move(layers));
+  const Frame frame(scene, spec, [&] {
+    if (layers_beside) layers_task.wait();
+    return std::move(layers);
+  });
   // Shared by every method's beauty image, and independent of the methods: computed beside them
   // at the lowest priority, finished after the first one (irradiance_ms), so that outputs_ms is
   // the writing only.

@@ -55,8 +55,8 @@ else
 fi
 
 # The frame block accounts for the whole process: its stages sum to elapsed_ms, the work run beside
-# them (the G-buffer's layers beside the load with --size, the irradiance beside the methods) listed
-# apart in "overlapped", not summed; the breakdown line names it.
+# them (the G-buffer's layers beside the load and BVH with --size, the irradiance beside the
+# methods) listed apart in "overlapped", not summed; the breakdown line names it.
 frame_adds_up() {
   awk '/^  "frame": \{/ { f = 1; next }
        f && /^  \}/ { f = 0 }
@@ -68,7 +68,7 @@ for d in exact raytrace; do
   frame_adds_up "$work/r/$d/stats.json" && ok || bad "$d/stats.json: frame stages do not sum to elapsed_ms"
 done
 grep -q '"gbuffer_layers_ms"' "$work/r/exact/stats.json" && ok || bad "no overlapped gbuffer_layers_ms"
-tail -n 1 "$work/err.txt" | grep -q '^frame: .*load [0-9]* (beside it: G-buffer layers [0-9]*)' &&
+tail -n 1 "$work/err.txt" | grep -q '^frame: .*BVH [0-9]* (beside load to BVH: G-buffer layers [0-9]*)' &&
   ok || bad "frame line lacks the overlapped stages: $(tail -n 1 "$work/err.txt")"
 
 # compare: the documented keys, compare.json and the error map.

@@ -19,10 +19,11 @@
 
 namespace penumbra {
 
-Frame::Frame(const Scene& scene, const LightSampleSpec& samples, GBuffer layers)
+Frame::Frame(const Scene& scene, const LightSampleSpec& samples,
+             const std::function<GBuffer()>& layers)
     : scene_(&scene), embree_(std::make_unique<EmbreeScene>(scene)), samples_(samples) {
   const auto start = std::chrono::steady_clock::now();
-  gbuffer_ = render_gbuffer(*embree_, scene.camera, std::move(layers));
+  gbuffer_ = render_gbuffer(*embree_, scene.camera, layers ? layers() : GBuffer{});
   gbuffer_ms_ = elapsed_ms(start);
   const auto classify_start = std::chrono::steady_clock::now();
   for (const Light& light : scene.lights) {

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -29,9 +30,11 @@ struct MethodResult {
 
 class Frame {
  public:
-  /// `layers`: the G-buffer's storage, when allocated beforehand (background_gbuffer of the
-  /// camera's size; gbuffer_ms then leaves its allocation out).
-  Frame(const Scene& scene, const LightSampleSpec& samples, GBuffer layers = {});
+  /// `layers`, when given, is called once the BVH is built and returns the G-buffer's storage
+  /// allocated beforehand (background_gbuffer of the camera's size; gbuffer_ms then counts the
+  /// wait for it, not its allocation).
+  Frame(const Scene& scene, const LightSampleSpec& samples,
+        const std::function<GBuffer()>& layers = {});
   // Not movable: the background thread (start_unshadowed_in_background) holds `this`.
   Frame(Frame&&) = delete;
   Frame& operator=(Frame&&) = delete;
