@@ -113,8 +113,8 @@ void check_memory(const RenderArgs& args, const Camera& camera, size_t lights, s
   throw Error(text);
 }
 
-/// The frame's size when --size gives a valid one (an invalid one is reported after the scene's
-/// own errors, as before the scene was loaded beside the G-buffer's allocation).
+/// The frame's size when --size gives a valid one (an invalid one is left to parse_size after the
+/// load, so that the scene's own errors still come first).
 std::optional<Camera> size_option(const std::string& size) {
   if (size.empty()) return std::nullopt;
   Camera camera;
