@@ -68,11 +68,13 @@ const Image<Vec3>& Frame::unshadowed(size_t light) const {
 void Frame::start_unshadowed_in_background() const {
   if (unshadowed_->background.joinable()) return;
   const auto start = std::chrono::steady_clock::now();
-  // Allocated here, before the thread starts, so that both sides find the images in place.
-  for (size_t l = 0; l < unshadowed_->lights.size(); ++l) {
+  // Allocated here, before the thread starts, so that both sides find the images in place (an
+  // image unshadowed() already made is kept: its rows are all handed out).
+  for (UnshadowedLight& u : unshadowed_->lights) {
+    if (!u.image.empty()) continue;
     const auto light_start = std::chrono::steady_clock::now();
-    unshadowed_->lights[l].image = Image<Vec3>(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
-    unshadowed_->lights[l].ms += elapsed_ms(light_start);
+    u.image = Image<Vec3>(gbuffer_.width, gbuffer_.height, Vec3(0.0f));
+    u.ms += elapsed_ms(light_start);
   }
   unshadowed_->background = std::thread([this, start] { fill_unshadowed_in_background(start); });
 }
