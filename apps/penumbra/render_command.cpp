@@ -1,5 +1,6 @@
 // `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -112,6 +113,19 @@ void check_memory(const RenderArgs& args, const Camera& camera, size_t lights, s
   throw Error(text);
 }
 
+/// The frame's size when --size gives a valid one (an invalid one is left to parse_size after the
+/// load, so that the scene's own errors still come first).
+std::optional<Camera> size_option(const std::string& size) {
+  if (size.empty()) return std::nullopt;
+  Camera camera;
+  try {
+    parse_size(size, camera);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  return camera;
+}
+
 void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   write_text_file(path, j.dump(2) + "\n");
 }
@@ -120,11 +134,15 @@ void write_json(const std::filesystem::path& path, const nlohmann::json& j) {
 /// the breakdown line printed at the end. Every stage is wall time on the main thread; other_ms is
 /// the rest of elapsed_ms (CLI parsing, the checks of Frame::run's results, stats.json). Not in
 /// it: the dynamic loader before static initialisation and the exit after the last stats.json.
+/// Work run beside a stage is inside that stage's wall time and listed apart, in "overlapped",
+/// never added to the sum.
 struct ProcessCosts {
-  double startup_ms = 0.0;  // static initialisation → the render command's start
-  double load_ms = 0.0;     // the scene and its meshes
-  double setup_ms = 0.0;    // methods, options, memory check, output folder
-  double aovs_ms = 0.0;     // --aov files
+  double startup_ms = 0.0;         // static initialisation → the render command's start
+  double load_ms = 0.0;            // the scene and its meshes
+  double gbuffer_layers_ms = 0.0;  // the G-buffer's allocation (with --size), beside the load,
+                                   // setup and BVH build
+  double setup_ms = 0.0;           // methods, options, memory check, output folder
+  double aovs_ms = 0.0;            // --aov files
   double methods_ms = 0.0;  // every Frame::run so far (the methods' own times and their checks)
   double outputs_ms = 0.0;  // every method's comparison, images and stats so far
 
@@ -136,10 +154,12 @@ struct ProcessCosts {
     if (aovs_ms > 0.0) frame["aovs_ms"] = aovs_ms;
     frame["methods_ms"] = methods_ms;
     frame["outputs_ms"] = outputs_ms;
+    if (gbuffer_layers_ms > 0.0) frame["overlapped"]["gbuffer_layers_ms"] = gbuffer_layers_ms;
     const double elapsed = elapsed_ms(process_start());
     double accounted = 0.0;
     for (const auto& [key, value] : frame.items())
-      if (key != "other_ms" && key != "elapsed_ms") accounted += value.get<double>();
+      if (value.is_number() && key != "other_ms" && key != "elapsed_ms")
+        accounted += value.get<double>();
     frame["other_ms"] = std::max(0.0, elapsed - accounted);
     frame["elapsed_ms"] = elapsed;
   }
@@ -154,13 +174,24 @@ void print_costs(const nlohmann::json& frame) {
       {"receivers_ms", "receivers"}, {"irradiance_ms", "irradiance"},
       {"aovs_ms", "AOVs"},           {"methods_ms", "methods"},
       {"outputs_ms", "outputs"},     {"other_ms", "other"}};
+  // Overlapped work, after the last stage it ran beside: {stage, {overlapped key, text}}.
+  static const std::pair<const char*, std::pair<const char*, const char*>> kBeside[] = {
+      {"bvh_build_ms", {"gbuffer_layers_ms", "beside load to BVH: G-buffer layers"}},
+      {"methods_ms", {"irradiance_background_ms", "beside them: irradiance"}}};
   std::string line = "frame:";
   for (const auto& [key, name] : kStages)
     if (frame.contains(key)) {
-      char part[64];
+      char part[96];
       std::snprintf(part, sizeof part, "%s %s %.0f", line.size() > 6 ? " +" : "", name,
                     frame[key].get<double>());
       line += part;
+      for (const auto& [stage, beside] : kBeside)
+        if (stage == std::string_view(key) && frame.contains("overlapped") &&
+            frame["overlapped"].contains(beside.first)) {
+          std::snprintf(part, sizeof part, " (%s %.0f)", beside.second,
+                        frame["overlapped"][beside.first].get<double>());
+          line += part;
+        }
     }
   std::fprintf(stderr, "%s = %.0f ms (stats.json \"frame\")\n", line.c_str(),
                frame["elapsed_ms"].get<double>());
@@ -171,6 +202,22 @@ void run_render(const RenderArgs& args) {
   ProcessCosts costs;
   costs.startup_ms =
       std::chrono::duration<double, std::milli>(command_start - process_start()).count();
+  // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
+  // mostly the first touch of their pages) are allocated by a task of their own while this thread
+  // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
+  // half the memory left (check_memory then refuses the frame with its message, below). The Frame
+  // waits for them before the primary rays.
+  GBuffer layers;
+  tbb::task_group layers_task;
+  const std::optional<Camera> sized = size_option(args.size);
+  const bool layers_beside = sized && 64 * static_cast<uint64_t>(sized->width) * sized->height <
+                                          available_memory_bytes() / 2;
+  if (layers_beside)
+    layers_task.run([&] {
+      const auto start = std::chrono::steady_clock::now();
+      layers = background_gbuffer(sized->width, sized->height);
+      costs.gbuffer_layers_ms = elapsed_ms(start);
+    });
   Scene scene = load_scene(args.scene, to_framing(args.framing));
   costs.load_ms = elapsed_ms(command_start);
   const auto setup_start = std::chrono::steady_clock::now();
@@ -217,9 +264,14 @@ void run_render(const RenderArgs& args) {
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
                scene.name.c_str(), scene.triangle_count(), scene.lights.size(), scene.camera.width,
                scene.camera.height, spec.k * spec.k, args.pattern.c_str());
-  const Frame frame(scene, spec);
-  // Shared by every method's beauty image: computed once here so outputs_ms is the writing only.
-  for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
+  const Frame frame(scene, spec, [&] {
+    if (layers_beside) layers_task.wait();
+    return std::move(layers);
+  });
+  // Shared by every method's beauty image, and independent of the methods: computed beside them
+  // at the lowest priority, finished after the first one (irradiance_ms), so that outputs_ms is
+  // the writing only.
+  frame.start_unshadowed_in_background();
   if (!args.aovs.empty()) {
     const auto aovs_start = std::chrono::steady_clock::now();
     write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
@@ -239,6 +291,7 @@ void run_render(const RenderArgs& args) {
     costs.methods_ms += elapsed_ms(run_start);
     std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
     set_stderr_line_open(false);
+    for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
 
     const auto outputs_start = std::chrono::steady_clock::now();
     const std::filesystem::path dir = several ? out_dir / result.method : out_dir;
@@ -254,10 +307,15 @@ void run_render(const RenderArgs& args) {
     }
     std::vector<const Visibility*> per_light;
     for (const Visibility& v : result.per_light) per_light.push_back(&v);
-    const Image<Vec3> beauty = shade(frame, per_light, shading);
-    // The PNG encoder is serial and the EXR one mostly so: the two files are written side by side.
-    tbb::parallel_invoke([&] { write_png_rgb(dir / "beauty.png", beauty); },
-                         [&] { write_visibility(dir, frame, result, format); });
+    // The PNG encoder is serial and the EXR one mostly so: the two files are written side by
+    // side, the beauty shaded beside the EXR too, a row at a time into the PNG's bytes.
+    const RowShader beauty(frame, per_light, shading);
+    tbb::parallel_invoke(
+        [&] {
+          write_png_rgb(dir / "beauty.png", frame.gbuffer().width, frame.gbuffer().height,
+                        [&](int y, Vec3* out) { beauty.row(y, out); });
+        },
+        [&] { write_visibility(dir, frame, result, format); });
     nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
     stats["shading"] = std::string(to_string(shading));
     stats["backend"] = args.backend;

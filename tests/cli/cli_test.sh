@@ -54,6 +54,23 @@ else
   bad "render failed: $(cat "$work/err.txt")"
 fi
 
+# The frame block accounts for the whole process: its stages sum to elapsed_ms, the work run beside
+# them (the G-buffer's layers beside the load and BVH with --size, the irradiance beside the
+# methods) listed apart in "overlapped", not summed; the breakdown line names it.
+frame_adds_up() {
+  awk '/^  "frame": \{/ { f = 1; next }
+       f && /^  \}/ { f = 0 }
+       f && /^    "overlapped": \{/ { o = 1 }
+       f && /^    "[a-z_]+_ms": / { gsub(/[",:]/, ""); if ($1 == "elapsed_ms") e = $2; else s += $2 }
+       END { exit !(o && e > 0 && (s - e) * (s - e) < 1e-6 * e * e) }' "$1"
+}
+for d in exact raytrace; do
+  frame_adds_up "$work/r/$d/stats.json" && ok || bad "$d/stats.json: frame stages do not sum to elapsed_ms"
+done
+grep -q '"gbuffer_layers_ms"' "$work/r/exact/stats.json" && ok || bad "no overlapped gbuffer_layers_ms"
+tail -n 1 "$work/err.txt" | grep -q '^frame: .*BVH [0-9]* (beside load to BVH: G-buffer layers [0-9]*)' &&
+  ok || bad "frame line lacks the overlapped stages: $(tail -n 1 "$work/err.txt")"
+
 # compare: the documented keys, compare.json and the error map.
 if "$bin" compare "$work/r/exact/visibility.exr" "$work/r/raytrace/visibility.exr" --out "$work/c" >"$work/cmp.txt"; then
   for key in mean_abs_shadowed mean_abs rmse max_abs psnr frac_over_1_255 frac_over_1_16; do

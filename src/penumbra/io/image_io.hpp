@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ struct FloatLayer {
   Image<float> pixels;
 };
 
+/// A FloatLayer that refers to its pixels (kept alive by the caller) instead of holding a copy.
+struct FloatLayerView {
+  std::string name;
+  const Image<float>* pixels;
+};
+
 /// Linear -> sRGB transfer function (IEC 61966-2-1, piecewise); input clamped to [0,1], NaN -> 0.
 float linear_to_srgb(float linear);
 /// Linear value -> 8-bit sRGB code (clamped, rounded to nearest).
@@ -26,6 +33,10 @@ uint8_t linear_to_srgb8(float linear);
 
 /// Writes linear RGB as an 8-bit sRGB-encoded PNG.
 void write_png_rgb(const std::filesystem::path& path, const Image<Vec3>& linear_rgb);
+/// The same from rows: rows(y, out) writes row y's width linear RGB pixels to out (called on
+/// several threads at once, rows in any order), so that no float image need be kept.
+void write_png_rgb(const std::filesystem::path& path, int width, int height,
+                   const std::function<void(int y, Vec3* out)>& rows);
 /// Writes already-encoded 8-bit RGB bytes (row-major, top row first, 3 bytes per pixel) as PNG.
 void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
@@ -33,6 +44,8 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
 /// Writes one 32-bit FLOAT channel per layer, channel name = layer name, ZIP compression (zlib
 /// level 1). All layers must have the same non-zero size and distinct non-empty names.
 void write_exr(const std::filesystem::path& path, const std::vector<FloatLayer>& layers);
+/// The same, from layers that refer to their pixels.
+void write_exr_views(const std::filesystem::path& path, const std::vector<FloatLayerView>& layers);
 /// Reads every channel of a scanline or tiled EXR as float (HALF/UINT are converted), in file
 /// order (OpenEXR stores channels sorted by name). Pixel (0,0) is the data window's top-left.
 std::vector<FloatLayer> read_exr(const std::filesystem::path& path);

@@ -2,9 +2,14 @@
 // samples, built once; then any number of methods run on it, each on every light.
 #pragma once
 
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "penumbra/core/light_samples.hpp"
@@ -25,7 +30,14 @@ struct MethodResult {
 
 class Frame {
  public:
-  Frame(const Scene& scene, const LightSampleSpec& samples);
+  /// `layers`, when given, is called once the BVH is built and returns the G-buffer's storage
+  /// allocated beforehand (background_gbuffer of the camera's size; gbuffer_ms then counts the
+  /// wait for it, not its allocation).
+  Frame(const Scene& scene, const LightSampleSpec& samples,
+        const std::function<GBuffer()>& layers = {});
+  // Not movable: the background thread (start_unshadowed_in_background) holds `this`.
+  Frame(Frame&&) = delete;
+  Frame& operator=(Frame&&) = delete;
 
   const Scene& scene() const { return *scene_; }
   const EmbreeScene& embree() const { return *embree_; }
@@ -46,16 +58,45 @@ class Frame {
   /// The unshadowed irradiance of light `light` at every kActive pixel (0 elsewhere), at
   /// GBuffer::shadow_origin with the shading normal, in closed form (irradiance.hpp), computed on
   /// first use and kept: it does not depend on the method, so every method's beauty image shares
-  /// it. Thread-safe.
+  /// it. Thread-safe. Its rows are handed out one at a time to whichever thread asks: the
+  /// background thread's (below) and then all cores here, so the image is the same however they
+  /// were shared.
   const Image<Vec3>& unshadowed(size_t light) const;
 
+  /// Starts computing unshadowed() of every light on one thread of the lowest priority (Linux's
+  /// SCHED_IDLE): it takes rows while a core would otherwise idle, as in a method's serial stages,
+  /// and gives its core up as soon as a method's thread wants it, so the methods' own times are
+  /// not lengthened. unshadowed() then computes the rows it has not reached. Call once, before any
+  /// unshadowed(); without it (or where the thread's priority cannot be lowered) unshadowed()
+  /// computes every row.
+  void start_unshadowed_in_background() const;
+  /// Wall time from start_unshadowed_in_background to the background thread's last row, and the
+  /// rows it computed (all lights).
+  double irradiance_background_ms() const;
+  int irradiance_background_rows() const;
+
  private:
-  struct UnshadowedCache {
-    explicit UnshadowedCache(size_t lights) : once(lights), images(lights), ms(lights, 0.0) {}
-    std::vector<std::once_flag> once;
-    std::vector<Image<Vec3>> images;
-    std::vector<double> ms;
+  struct UnshadowedLight {
+    std::once_flag once;
+    Image<Vec3> image;
+    std::atomic<int> next_row{0};   // rows handed out
+    std::atomic<int> rows_done{0};  // rows written
+    double ms = 0.0;                // unshadowed()'s own wall time
+    std::exception_ptr error;       // the background thread's, set before its row counts as done
   };
+  struct UnshadowedCache {
+    explicit UnshadowedCache(size_t lights) : lights(lights) {}
+    ~UnshadowedCache();  // stops the background thread after its current row
+    std::vector<UnshadowedLight> lights;
+    std::thread background;
+    std::atomic<bool> stop{false};
+    std::atomic<int> background_rows{0};
+    std::atomic<double> background_ms{0.0};
+  };
+  /// Computes rows of `light` handed out from its next_row until none is left.
+  void fill_unshadowed_rows(size_t light) const;
+  /// The background thread's work: every light's rows, in order.
+  void fill_unshadowed_in_background(std::chrono::steady_clock::time_point start) const;
 
   const Scene* scene_;
   std::unique_ptr<EmbreeScene> embree_;

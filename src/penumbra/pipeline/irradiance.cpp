@@ -284,25 +284,28 @@ Vec3 LightIrradiance::textured_at(const DVec3& p, const DVec3& n, const LightFra
 
 void LightIrradiance::fill(const GBuffer& g, const Image<uint8_t>& classes,
                            Image<Vec3>& out) const {
+  parallel_rows(g.height, [&](int y) { fill_row(g, classes, out, y); });
+}
+
+void LightIrradiance::fill_row(const GBuffer& g, const Image<uint8_t>& classes, Image<Vec3>& out,
+                               int y) const {
   const bool batched = light_->shape == LightShape::rect && block_radiance_.empty();
-  parallel_rows(g.height, [&](int y) {
-    size_t batch[kLanes];
-    int count = 0;
-    for (int x = 0; x < g.width; ++x) {
-      const size_t i = static_cast<size_t>(y) * g.width + x;
-      if (classes[i] != kActive) continue;
-      if (!batched) {
-        out[i] = at(g.shadow_origin(i), g.shading_normal[i]);
-        continue;
-      }
-      batch[count++] = i;
-      if (count == kLanes) {
-        fill_rect_batch(g, batch, count, out);
-        count = 0;
-      }
+  size_t batch[kLanes];
+  int count = 0;
+  for (int x = 0; x < g.width; ++x) {
+    const size_t i = static_cast<size_t>(y) * g.width + x;
+    if (classes[i] != kActive) continue;
+    if (!batched) {
+      out[i] = at(g.shadow_origin(i), g.shading_normal[i]);
+      continue;
     }
-    if (count > 0) fill_rect_batch(g, batch, count, out);
-  });
+    batch[count++] = i;
+    if (count == kLanes) {
+      fill_rect_batch(g, batch, count, out);
+      count = 0;
+    }
+  }
+  if (count > 0) fill_rect_batch(g, batch, count, out);
 }
 
 void LightIrradiance::fill_rect_batch(const GBuffer& g, const size_t* pixels, int count,

@@ -63,6 +63,9 @@ class LightIrradiance {
   /// double ulps of at(), so the float result is at() to within one float ulp (at() itself
   /// elsewhere).
   void fill(const GBuffer& g, const Image<uint8_t>& classes, Image<Vec3>& out) const;
+  /// fill's work on row y alone (one thread): rows are independent, so any split of them among
+  /// threads gives fill's image.
+  void fill_row(const GBuffer& g, const Image<uint8_t>& classes, Image<Vec3>& out, int y) const;
 
   /// Texel blocks the textured sum runs over (0 × 0 for an untextured light).
   int blocks_u() const { return blocks_u_; }

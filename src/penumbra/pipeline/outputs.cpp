@@ -4,38 +4,41 @@
 #include <fstream>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/parallel.hpp"
 
 namespace penumbra {
 
 Image<float> surface_mask(const GBuffer& g) {
   Image<float> mask(g.width, g.height, 0.0f);
-  for (size_t i = 0; i < mask.size(); ++i) mask[i] = g.is_background(i) ? 0.0f : 1.0f;
+  parallel_chunks(mask.size(), 1 << 16, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) mask[i] = g.is_background(i) ? 0.0f : 1.0f;
+  });
   return mask;
 }
 
-std::vector<FloatLayer> visibility_layers(const Frame& frame, const MethodResult& result) {
-  std::vector<FloatLayer> layers;
+VisibilityLayers visibility_layers(const Frame& frame, const MethodResult& result) {
+  VisibilityLayers out;
   for (size_t l = 0; l < result.per_light.size(); ++l) {
     const Visibility& vis = result.per_light[l];
     const std::string name = "light" + std::to_string(l);
-    layers.push_back({name, vis.lit});
+    out.layers.push_back({name, &vis.lit});
     if (vis.lit_rgb) {
       const char* channels[3] = {".R", ".G", ".B"};
       for (int c = 0; c < 3; ++c) {
-        Image<float> img(vis.lit.width(), vis.lit.height());
+        Image<float>& img = out.owned.emplace_back(vis.lit.width(), vis.lit.height());
         for (size_t i = 0; i < img.size(); ++i) img[i] = (*vis.lit_rgb)[i][c];
-        layers.push_back({name + channels[c], std::move(img)});
+        out.layers.push_back({name + channels[c], &img});
       }
     }
   }
-  layers.push_back({"mask", surface_mask(frame.gbuffer())});
-  return layers;
+  out.layers.push_back({"mask", &out.owned.emplace_back(surface_mask(frame.gbuffer()))});
+  return out;
 }
 
 void write_visibility(const std::filesystem::path& dir, const Frame& frame,
                       const MethodResult& result, FloatFormat format) {
   if (format == FloatFormat::exr) {
-    write_exr(dir / "visibility.exr", visibility_layers(frame, result));
+    write_exr_views(dir / "visibility.exr", visibility_layers(frame, result).layers);
     return;
   }
   for (size_t l = 0; l < result.per_light.size(); ++l) {
@@ -155,6 +158,10 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
                 {"gbuffer_ms", frame.gbuffer_ms()},
                 {"receivers_ms", frame.receivers_ms()},
                 {"irradiance_ms", frame.irradiance_ms()}};
+  // Beside the methods (frame.hpp), so inside methods_ms: not a stage of its own.
+  if (frame.irradiance_background_rows() > 0)
+    j["frame"]["overlapped"] = {{"irradiance_background_ms", frame.irradiance_background_ms()},
+                                {"irradiance_background_rows", frame.irradiance_background_rows()}};
   if (vs_exact) j["error_vs_exact"] = to_json(*vs_exact);
   return j;
 }

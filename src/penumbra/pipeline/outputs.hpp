@@ -2,6 +2,7 @@
 // stats.json and optional G-buffer AOVs.
 #pragma once
 
+#include <deque>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -17,8 +18,13 @@ namespace penumbra {
 enum class FloatFormat { exr, pfm };
 
 /// Visibility layers: "light<l>" per light (V_coef), "light<l>.R/.G/.B" for textured lights, and
-/// "mask" (1 = surface pixel, 0 = background) so that `compare` skips the background.
-std::vector<FloatLayer> visibility_layers(const Frame& frame, const MethodResult& result);
+/// "mask" (1 = surface pixel, 0 = background) so that `compare` skips the background. The V_coef
+/// layers view the result's own images (4 bytes a pixel not copied); `owned` holds the others.
+struct VisibilityLayers {
+  std::deque<Image<float>> owned;  // a deque: the views point into it as it grows
+  std::vector<FloatLayerView> layers;
+};
+VisibilityLayers visibility_layers(const Frame& frame, const MethodResult& result);
 
 /// Writes visibility.exr (all layers) or visibility.pfm (+ visibility_light<l>.pfm, mask.pfm).
 void write_visibility(const std::filesystem::path& dir, const Frame& frame,

@@ -44,51 +44,64 @@ std::string_view to_string(ShadingMode mode) {
   return mode == ShadingMode::modulate ? "modulate" : "integrate";
 }
 
-Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
-                  ShadingMode mode) {
+RowShader::RowShader(const Frame& frame, const std::vector<const Visibility*>& per_light,
+                     ShadingMode mode)
+    : frame_(&frame), per_light_(per_light), mode_(mode), exposure_(auto_exposure(frame)) {
+  // Computed once per frame and light, shared by every method.
+  for (size_t l = 0; l < frame.scene().lights.size(); ++l)
+    unshadowed_.push_back(&frame.unshadowed(l));
+}
+
+void RowShader::row(int y, Vec3* out) const {
+  const Frame& frame = *frame_;
   const Scene& scene = frame.scene();
   const GBuffer& g = frame.gbuffer();
-  const float exposure = auto_exposure(frame);
-  Image<Vec3> out(g.width, g.height, kBackgroundRadiance * exposure);
-  // Before the parallel loop: computed once per frame and light, shared by every method.
-  std::vector<const Image<Vec3>*> unshadowed;
-  for (size_t l = 0; l < scene.lights.size(); ++l) unshadowed.push_back(&frame.unshadowed(l));
-  parallel_rows(g.height, [&](int y) {
-    std::vector<Vec2> light_uv(frame.samples().count());
-    for (int x = 0; x < g.width; ++x) {
-      const size_t i = static_cast<size_t>(y) * g.width + x;
-      if (g.is_background(i)) continue;
-      const Vec3 albedo = scene.material_of(scene.meshes[g.mesh_id[i]]).albedo;
-      Vec3 irradiance(0.0f);
-      for (size_t l = 0; l < scene.lights.size(); ++l) {
-        if (frame.receivers(l)[i] != kActive) continue;
-        const Visibility& vis = *per_light[l];
-        const Light& light = scene.lights[l];
-        if (mode == ShadingMode::integrate && vis.masks && light.shape != LightShape::point) {
-          // Forest 2008 eq. 4.6: E = (A / N) Σ_s V_s L_s cosθ cosθ' / r².
-          const Vec3 p = g.shadow_origin(i);
-          const LightFrame f = light_frame(light, p);
-          frame.samples().pixel_samples(x, y, light_uv);
-          Vec3 sum(0.0f);
-          int emitting = 0;
-          for (int s = 0; s < frame.samples().count(); ++s) {
-            if (!f.emits(light_uv[s])) continue;
-            ++emitting;
-            if (vis.masks->blocked(i, s)) continue;
-            sum += geometry_term(light, f, p, g.shading_normal[i], f.point(light_uv[s]),
-                                 sample_radiance(scene, light, light_uv[s]));
-          }
-          if (emitting > 0)
-            irradiance += sum * (frame_area(f) * f.uv_area() / static_cast<float>(emitting));
-        } else {
-          const Vec3 visible = vis.lit_rgb ? (*vis.lit_rgb)[i] : Vec3(vis.lit[i]);
-          irradiance += visible * (*unshadowed[l])[i];
-        }
-      }
-      const Vec3 radiance = albedo * (irradiance / static_cast<float>(kPi) + scene.ambient);
-      out[i] = radiance * exposure;
+  std::vector<Vec2> light_uv;
+  for (int x = 0; x < g.width; ++x) {
+    const size_t i = static_cast<size_t>(y) * g.width + x;
+    if (g.is_background(i)) {
+      out[x] = kBackgroundRadiance * exposure_;
+      continue;
     }
-  });
+    const Vec3 albedo = scene.material_of(scene.meshes[g.mesh_id[i]]).albedo;
+    Vec3 irradiance(0.0f);
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+      if (frame.receivers(l)[i] != kActive) continue;
+      const Visibility& vis = *per_light_[l];
+      const Light& light = scene.lights[l];
+      if (mode_ == ShadingMode::integrate && vis.masks && light.shape != LightShape::point) {
+        // Forest 2008 eq. 4.6: E = (A / N) Σ_s V_s L_s cosθ cosθ' / r².
+        const Vec3 p = g.shadow_origin(i);
+        const LightFrame f = light_frame(light, p);
+        light_uv.resize(frame.samples().count());
+        frame.samples().pixel_samples(x, y, light_uv);
+        Vec3 sum(0.0f);
+        int emitting = 0;
+        for (int s = 0; s < frame.samples().count(); ++s) {
+          if (!f.emits(light_uv[s])) continue;
+          ++emitting;
+          if (vis.masks->blocked(i, s)) continue;
+          sum += geometry_term(light, f, p, g.shading_normal[i], f.point(light_uv[s]),
+                               sample_radiance(scene, light, light_uv[s]));
+        }
+        if (emitting > 0)
+          irradiance += sum * (frame_area(f) * f.uv_area() / static_cast<float>(emitting));
+      } else {
+        const Vec3 visible = vis.lit_rgb ? (*vis.lit_rgb)[i] : Vec3(vis.lit[i]);
+        irradiance += visible * (*unshadowed_[l])[i];
+      }
+    }
+    const Vec3 radiance = albedo * (irradiance / static_cast<float>(kPi) + scene.ambient);
+    out[x] = radiance * exposure_;
+  }
+}
+
+Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
+                  ShadingMode mode) {
+  const RowShader shader(frame, per_light, mode);
+  const GBuffer& g = frame.gbuffer();
+  Image<Vec3> out(g.width, g.height);
+  parallel_rows(g.height, [&](int y) { shader.row(y, &out(0, y)); });
   return out;
 }
 

@@ -28,6 +28,22 @@ std::string_view to_string(ShadingMode mode);
 Image<Vec3> shade(const Frame& frame, const std::vector<const Visibility*>& per_light,
                   ShadingMode mode);
 
+/// shade()'s pixels a row at a time, for a consumer that needs no whole image (the beauty PNG:
+/// its 12 bytes a pixel never allocated). Thread-safe: rows in any order, on any threads.
+class RowShader {
+ public:
+  RowShader(const Frame& frame, const std::vector<const Visibility*>& per_light, ShadingMode mode);
+  /// Row y of shade()'s image into out[0, width).
+  void row(int y, Vec3* out) const;
+
+ private:
+  const Frame* frame_;
+  std::vector<const Visibility*> per_light_;
+  ShadingMode mode_;
+  float exposure_;
+  std::vector<const Image<Vec3>*> unshadowed_;
+};
+
 /// A scale that maps the frame's unshadowed brightness to display range: the same for every method
 /// of a frame, so their pictures compare.
 float auto_exposure(const Frame& frame);

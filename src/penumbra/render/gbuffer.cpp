@@ -9,21 +9,41 @@
 
 namespace penumbra {
 
-GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera) {
-  const Scene& scene = embree.scene();
+GBuffer background_gbuffer(int width, int height) {
   GBuffer g;
-  g.width = camera.width;
-  g.height = camera.height;
+  g.width = width;
+  g.height = height;
   // 64 bytes a pixel, first touched here (page faults and the fill: ≈ 15 ms serial at 1024²), so
   // the eight layers are allocated side by side.
-  tbb::parallel_invoke([&] { g.world_pos = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
-                       [&] { g.geo_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
-                       [&] { g.shading_normal = Image<Vec3>(g.width, g.height, Vec3(0.0f)); },
-                       [&] { g.depth = Image<float>(g.width, g.height, kInfinity); },
-                       [&] { g.mesh_id = Image<int32_t>(g.width, g.height, -1); },
-                       [&] { g.prim_id = Image<int32_t>(g.width, g.height, -1); },
-                       [&] { g.uv = Image<Vec2>(g.width, g.height, Vec2(0.0f)); },
-                       [&] { g.ray_offset = Image<float>(g.width, g.height, 0.0f); });
+  tbb::parallel_invoke([&] { g.world_pos = Image<Vec3>(width, height, Vec3(0.0f)); },
+                       [&] { g.geo_normal = Image<Vec3>(width, height, Vec3(0.0f)); },
+                       [&] { g.shading_normal = Image<Vec3>(width, height, Vec3(0.0f)); },
+                       [&] { g.depth = Image<float>(width, height, kInfinity); },
+                       [&] { g.mesh_id = Image<int32_t>(width, height, -1); },
+                       [&] { g.prim_id = Image<int32_t>(width, height, -1); },
+                       [&] { g.uv = Image<Vec2>(width, height, Vec2(0.0f)); },
+                       [&] { g.ray_offset = Image<float>(width, height, 0.0f); });
+  return g;
+}
+
+namespace {
+
+/// Every layer allocated at the camera's size (their values are background_gbuffer's: the caller's
+/// promise).
+bool has_layers_for(const GBuffer& g, const Camera& camera) {
+  const size_t n = static_cast<size_t>(camera.width) * camera.height;
+  return g.width == camera.width && g.height == camera.height && g.world_pos.size() == n &&
+         g.geo_normal.size() == n && g.shading_normal.size() == n && g.depth.size() == n &&
+         g.mesh_id.size() == n && g.prim_id.size() == n && g.uv.size() == n &&
+         g.ray_offset.size() == n;
+}
+
+}  // namespace
+
+GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera, GBuffer layers) {
+  const Scene& scene = embree.scene();
+  GBuffer g = has_layers_for(layers, camera) ? std::move(layers)
+                                             : background_gbuffer(camera.width, camera.height);
 
   const Camera::RayBasis rays = camera.ray_basis();
   // Primary rays in 4×4 pixel packets (rtcIntersect16): coherent rays share the traversal, about

@@ -51,7 +51,14 @@ inline float ray_offset_for_triangle(const Vec3& p0, const Vec3& p1, const Vec3&
   return kRayOffsetRelative * std::max({m.x, m.y, m.z});
 }
 
-/// Traces one primary ray per pixel with Embree (all cores).
-GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera);
+/// A width × height G-buffer at its background values (no hit: depth +inf, ids −1, the rest 0).
+/// Most of its cost is the first touch of its pages (64 bytes a pixel), which needs no scene:
+/// `render` allocates it while the scene loads.
+GBuffer background_gbuffer(int width, int height);
+
+/// Traces one primary ray per pixel with Embree (all cores), into `layers` when they are a
+/// background_gbuffer of the camera's size (a new one otherwise). Pixels no ray hits keep their
+/// background values.
+GBuffer render_gbuffer(const EmbreeScene& embree, const Camera& camera, GBuffer layers = {});
 
 }  // namespace penumbra
