@@ -268,10 +268,12 @@ void run_render(const RenderArgs& args) {
     if (layers_beside) layers_task.wait();
     return std::move(layers);
   });
-  // Shared by every method's beauty image, and independent of the methods: computed beside them
-  // at the lowest priority, finished after the first one (irradiance_ms), so that outputs_ms is
-  // the writing only.
-  frame.start_unshadowed_in_background();
+  // Shared by every method's beauty image, and independent of the methods: computed beside the
+  // method at the lowest priority, finished after it (irradiance_ms), so that outputs_ms is the
+  // writing only. Only when one method runs: methods compared in one process are each timed with
+  // nothing beside them (their ratios are the tables' figures); then it is computed after the
+  // first, on all cores.
+  if (methods.size() == 1) frame.start_unshadowed_in_background();
   if (!args.aovs.empty()) {
     const auto aovs_start = std::chrono::steady_clock::now();
     write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
