@@ -5,6 +5,7 @@
 // planes (batched SIMD setup, row spans) or by the LUT [§4.3]; (5) V from the bits, weighted by
 // light_weights.hpp exactly as `raytrace` weights its rays.
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
@@ -148,9 +149,25 @@ class Gears final : public ShadowMethod {
       }
     });
     vis.times.add("light_space_setup", elapsed_ms(t0));
-    t0 = std::chrono::steady_clock::now();
-    const Solids solids = opt_.solid_cull ? find_solids(ctx.scene, soup) : Solids{};
-    vis.times.add("find_solids", elapsed_ms(t0));
+    // The solids are first needed to pack the triangles: found meanwhile, as one task (the
+    // pixel and grid set-up below leave cores idle part of the time).
+    Solids solids;
+    double solids_ms = 0.0;
+    tbb::task_group solids_task;
+    if (opt_.solid_cull)
+      solids_task.run([&] {
+        const auto start = std::chrono::steady_clock::now();
+        solids = find_solids(ctx.scene, soup);
+        solids_ms = elapsed_ms(start);
+      });
+    bool solids_ready = !opt_.solid_cull;
+    auto wait_for_solids = [&] {
+      if (solids_ready) return;
+      const auto start = std::chrono::steady_clock::now();
+      solids_task.wait();
+      solids_ready = true;
+      vis.times.add("find_solids_wait", elapsed_ms(start));
+    };
 
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
@@ -290,6 +307,7 @@ class Gears final : public ShadowMethod {
       const CellTriangles table = assign_triangles(cam, soup, side, cells, opt_.assign, astats);
       FlatLight flat = flat_light(cam);
       if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
+      wait_for_solids();
       std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
       if (solids.count() > 0)
         for (size_t t = 0; t < tri_count; ++t) packed[t].solid = solids.of_triangle[t];
@@ -642,6 +660,7 @@ class Gears final : public ShadowMethod {
           });
       raster_ms += elapsed_ms(t0);
     }
+    wait_for_solids();  // when no pass ran
     vis.times.add("project_pixels", project_ms);
     vis.times.add("count_prefix_sum", astats.count_ms + astats.prefix_ms);
     vis.times.add("write_pairs", astats.write_ms);
@@ -672,6 +691,9 @@ class Gears final : public ShadowMethod {
     // Active pixels no shadow-casting mesh's box can shadow: not in the grid passes.
     c["pixels_box_culled"] = static_cast<double>(box_culled);
     c["solids"] = static_cast<double>(solids.count());  // closed components culled by side
+    // Wall time finding them took, beside the stages before the first pass (whose times include
+    // it wherever it held a core; `find_solids_wait` is what the pass then waited for).
+    c["find_solids_ms"] = solids_ms;
     c["pairs"] = static_cast<double>(astats.pairs);
     c["pairs_without_retraction"] = static_cast<double>(astats.pairs_without_retraction);
     c["aabb_cells"] = static_cast<double>(astats.aabb_cells);
