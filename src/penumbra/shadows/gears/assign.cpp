@@ -1,5 +1,7 @@
 #include "penumbra/shadows/gears/assign.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -312,7 +314,8 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   t0 = std::chrono::steady_clock::now();
   std::vector<uint32_t> order(n);
   for (size_t t = 0; t < n; ++t) order[t] = static_cast<uint32_t>(t);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+  // A strict total order (ties by id), so the parallel sort's result is the serial one's.
+  tbb::parallel_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return zmins[a] < zmins[b] || (zmins[a] == zmins[b] && a < b);
   });
   std::vector<uint64_t> offsets(n + 1, 0);

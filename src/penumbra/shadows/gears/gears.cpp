@@ -99,6 +99,7 @@ class Gears final : public ShadowMethod {
     // ---- Step 2/3.2 prologue: active pixel samples in light space.
     auto t0 = std::chrono::steady_clock::now();
     std::vector<uint32_t> active;
+    active.reserve(g.pixel_count());
     uint64_t back_facing = 0;
     for (size_t i = 0; i < g.pixel_count(); ++i) {
       if (ctx.receivers[i] == kActive)
