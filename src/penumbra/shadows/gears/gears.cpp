@@ -98,15 +98,10 @@ class Gears final : public ShadowMethod {
 
     // ---- Step 2/3.2 prologue: active pixel samples in light space.
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint32_t> active;
-    active.reserve(g.pixel_count());
-    uint64_t back_facing = 0;
-    for (size_t i = 0; i < g.pixel_count(); ++i) {
-      if (ctx.receivers[i] == kActive)
-        active.push_back(static_cast<uint32_t>(i));
-      else
-        back_facing += ctx.receivers[i] == kBackFacing;
-    }
+    const std::vector<uint32_t> active =
+        parallel_indices(g.pixel_count(), [&](size_t i) { return ctx.receivers[i] == kActive; });
+    const uint64_t back_facing = static_cast<uint64_t>(
+        std::count(ctx.receivers.pixels().begin(), ctx.receivers.pixels().end(), kBackFacing));
     const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
     Vec3 toward = frame0.emit_normal;
     if (point || sphere) {
@@ -286,18 +281,23 @@ class Gears final : public ShadowMethod {
       t0 = std::chrono::steady_clock::now();
       // The grid spans every sample of the side (its cells then do not depend on the box cull),
       // only the samples that may be shadowed are bucketed.
-      std::vector<uint32_t> ids;
-      std::vector<Vec3> pts, side_pts;
-      for (size_t a = 0; a < active.size(); ++a) {
-        const Vec3& q = p_light[a];
-        if ((side > 0) != (q.z >= 0.0f)) continue;
-        side_pts.emplace_back(q.x, q.y, side * q.z);
-        if (may_be_shadowed[a]) {
-          ids.push_back(static_cast<uint32_t>(a));
-          pts.push_back(side_pts.back());
-        }
-      }
+      auto on_side = [&](size_t a) { return (side > 0) == (p_light[a].z >= 0.0f); };
+      const std::vector<uint32_t> ids = parallel_indices(
+          active.size(), [&](size_t a) { return may_be_shadowed[a] && on_side(a); });
       if (ids.empty()) continue;
+      const std::vector<uint32_t> side_ids = parallel_indices(active.size(), on_side);
+      auto mirrored = [&](const std::vector<uint32_t>& from) {
+        std::vector<Vec3> to(from.size());
+        parallel_chunks(from.size(), 4096, [&](size_t b, size_t e) {
+          for (size_t i = b; i < e; ++i) {
+            const Vec3& q = p_light[from[i]];
+            to[i] = Vec3(q.x, q.y, side * q.z);
+          }
+        });
+        return to;
+      };
+      const std::vector<Vec3> pts = mirrored(ids);
+      std::vector<Vec3> side_pts = mirrored(side_ids);
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
       const GridCamera cam = make_grid_camera(side_space, corners, light_max_z, side_pts,
                                               opt_.eye_distance, opt_.grid);
