@@ -285,7 +285,6 @@ class Gears final : public ShadowMethod {
       const std::vector<uint32_t> ids = parallel_indices(
           active.size(), [&](size_t a) { return may_be_shadowed[a] && on_side(a); });
       if (ids.empty()) continue;
-      const std::vector<uint32_t> side_ids = parallel_indices(active.size(), on_side);
       auto mirrored = [&](const std::vector<uint32_t>& from) {
         std::vector<Vec3> to(from.size());
         parallel_chunks(from.size(), 4096, [&](size_t b, size_t e) {
@@ -297,11 +296,16 @@ class Gears final : public ShadowMethod {
         return to;
       };
       const std::vector<Vec3> pts = mirrored(ids);
-      std::vector<Vec3> side_pts = mirrored(side_ids);
+      // Every sample on the light's front (the usual case): the side's points are p_light itself.
+      std::vector<Vec3> side_copy;
+      const bool all_front = side > 0 && std::all_of(p_light.begin(), p_light.end(),
+                                                     [](const Vec3& q) { return q.z >= 0.0f; });
+      if (!all_front) side_copy = mirrored(parallel_indices(active.size(), on_side));
+      const std::vector<Vec3>& side_pts = all_front ? p_light : side_copy;
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
       const GridCamera cam = make_grid_camera(side_space, corners, light_max_z, side_pts,
                                               opt_.eye_distance, opt_.grid);
-      side_pts = {};
+      side_copy = {};
       const PixelCells cells = bucket_pixels(cam, ids, pts);
       project_ms += elapsed_ms(t0);
 
