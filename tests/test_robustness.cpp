@@ -192,6 +192,11 @@ TEST(MeshFiles, ValidatorCountsWhatTriangulationMustYield) {
   const std::string e_property = error_of([&] { validate_mesh_file(property_twice, ".ply"); });
   EXPECT_NE(e_property.find("property 'x' of 'vertex' declared twice"), std::string::npos)
       << e_property;
+  // A vertical tab after end_header (a fuzzer's input): assimp did not see the header end and
+  // never returned.
+  const std::string tab_end = "ply\nformat ascii 1.0\nend_header\v0 0 0\n 1\n3 0 1 @2\n";
+  const std::string e_tab = error_of([&] { validate_mesh_file(tab_end, ".ply"); });
+  EXPECT_NE(e_tab.find("PLY header: control character 11"), std::string::npos) << e_tab;
 }
 
 // STL is checked before assimp too: the binary size, finite coordinates, every ASCII statement in

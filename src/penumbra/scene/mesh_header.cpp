@@ -221,6 +221,14 @@ MeshFileCounts validate_ply(std::string_view bytes) {
   while (next_line(bytes, pos, line)) {
     split(line, t);
     if (t.empty()) continue;
+    // Assimp ends its words at spaces, tabs and line ends only: a keyword line with another
+    // control character (a vertical tab after "end_header", from a fuzzer) reads differently
+    // there — an end_header it did not see made it loop for ever. (Stray lines are skipped.)
+    if (t[0] == "end_header" || t[0] == "format" || t[0] == "element" || t[0] == "property")
+      for (const char c : line)
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r')
+          bad("PLY header: control character " + std::to_string(static_cast<int>(c)) + " in line " +
+              quote(line));
     if (t[0] == "end_header") {
       have_end = true;
       break;
