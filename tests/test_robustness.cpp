@@ -110,6 +110,9 @@ TEST(MeshFiles, MalformedOffAndPlyAreRefusedWithTheReason) {
       {"off_index_oob.off", "OFF: face 1 has vertex index '99' (the file has 4 vertices)"},
       // A fuzzer's: a vertical tab after end_header, which assimp never saw the end of.
       {"ply_vtab_end_header.ply", "PLY header: control character 11 in line 'end_header"},
+      // A fuzzer's: 4e9 binary records of no property, which assimp looped over.
+      {"plyb_records_without_properties.ply",
+       "PLY header: element 'face' has 4000000000 records but no properties"},
   };
   for (const auto& [file, want] : cases) {
     const std::string e = error_of([&] { load_mesh_file(mesh_data(file)); });

@@ -287,6 +287,11 @@ MeshFileCounts validate_ply(std::string_view bytes) {
     // Every record takes at least one byte per property (binary) or two (a digit and a
     // separator, ASCII): a larger count is a lying header, refused before anything is allocated.
     // An ASCII record is at least one non-blank line even without properties.
+    // A binary record without properties is zero bytes, so nothing bounds its count: assimp
+    // looped over a fuzzer's 4 000 000 000 of them.
+    if (format != PlyFormat::ascii && e.properties.empty() && e.count > 0)
+      bad("PLY header: element " + quote(e.name) + " has " + std::to_string(e.count) +
+          " records but no properties");
     size_t min_bytes = format == PlyFormat::ascii && e.properties.empty() ? 1 : 0;
     for (const PlyProperty& p : e.properties)
       min_bytes += format == PlyFormat::ascii ? 2 : ply_size(p.list ? p.count_type : p.type);
@@ -301,7 +306,7 @@ MeshFileCounts validate_ply(std::string_view bytes) {
 
   PlyBody reader(body, format);
   for (const PlyElement& e : elements) {
-    if (e.properties.empty() && format != PlyFormat::ascii) continue;  // records of zero bytes
+    if (e.properties.empty() && format != PlyFormat::ascii) continue;  // no records (above)
     const bool is_face = e.name == "face";
     for (uint64_t r = 0; r < e.count; ++r) {
       if (!reader.begin_record())
