@@ -221,17 +221,10 @@ void clip_polygon(const LightProjection& proj, const DVec3* vertices, int count,
 }
 
 int classify_homogeneous(const DVec3* h, int count) {
-  // clip_value of every plane, without the switch: per plane the number of vertices failing it.
+  // Per plane the number of vertices failing it (the plane loop unrolls: no switch is left).
   int fails[6] = {0, 0, 0, 0, 0, 0};
-  for (int i = 0; i < count; ++i) {
-    const DVec3& q = h[i];
-    fails[0] += q.z - kMinW >= 0.0 ? 0 : 1;
-    fails[1] += kShadowSegmentEnd - q.z >= 0.0 ? 0 : 1;
-    fails[2] += q.x >= 0.0 ? 0 : 1;
-    fails[3] += q.z - q.x >= 0.0 ? 0 : 1;
-    fails[4] += q.y >= 0.0 ? 0 : 1;
-    fails[5] += q.z - q.y >= 0.0 ? 0 : 1;
-  }
+  for (int i = 0; i < count; ++i)
+    for (int plane = 0; plane < 6; ++plane) fails[plane] += clip_value(plane, h[i]) >= 0.0 ? 0 : 1;
   int any = 0;
   for (int plane = 0; plane < 6; ++plane) {
     if (fails[plane] == count) return ExactBvh::kOutside;

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cstring>
 #include <numeric>
 
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/rng.hpp"
 
 namespace penumbra::gears {
 
@@ -15,12 +15,6 @@ namespace {
 uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
-}
-
-uint64_t mix(uint64_t x) {  // splitmix64's finalizer
-  x ^= x >> 30, x *= 0xbf58476d1ce4e5b9ull;
-  x ^= x >> 27, x *= 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
 }
 
 /// Open-addressing table from nonzero 64-bit keys to small integers (linear probing).
@@ -35,7 +29,7 @@ class KeyTable {
   }
   /// The slot of `key`, inserted (value 0) if new; `fresh` tells which.
   int32_t& at(uint64_t key, bool& fresh) {
-    size_t i = mix(key) & mask_;
+    size_t i = splitmix64(key) & mask_;
     while (keys_[i] != 0 && keys_[i] != key) i = (i + 1) & mask_;
     fresh = keys_[i] == 0;
     keys_[i] = key;
@@ -54,7 +48,9 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   Solids out;
   const size_t n = soup.size();
   out.of_triangle.assign(n, kNoSolid);
-  // Welded vertex ids: per mesh, the first vertex at each position (bit-identical coordinates).
+  // Welded vertex ids: per mesh, the first vertex at each position — bit-identical coordinates,
+  // −0 = +0, the project's welding rule (scene/edges.hpp). build_mesh_edges is not used: its two
+  // sorts take twice this whole function on 50–90 k triangles, and it runs per light and frame.
   std::vector<std::vector<uint32_t>> weld(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
@@ -64,16 +60,21 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
     // Buckets by a hash of the position; equal positions are then compared exactly.
     KeyTable first(nv);
     std::vector<uint32_t> next(nv, UINT32_MAX);  // chain of vertices sharing a hash
+    auto bits_of = [&](uint32_t v) {
+      const Vec3& p = mesh.positions[v];
+      return std::array<uint32_t, 3>{std::bit_cast<uint32_t>(p.x + 0.0f),
+                                     std::bit_cast<uint32_t>(p.y + 0.0f),
+                                     std::bit_cast<uint32_t>(p.z + 0.0f)};
+    };
     for (uint32_t v = 0; v < nv; ++v) {
-      uint32_t bits[3];
-      std::memcpy(bits, &mesh.positions[v], sizeof(bits));
+      const std::array<uint32_t, 3> bits = bits_of(v);
       const uint64_t key =
-          mix(uint64_t{bits[0]} << 32 | bits[1]) ^ mix(uint64_t{bits[2]} + 0x9e3779b97f4a7c15ull);
+          splitmix64(uint64_t{bits[0]} << 32 | bits[1]) ^ splitmix64(uint64_t{bits[2]});
       bool fresh = false;
       int32_t& head = first.at(key | 1, fresh);
       uint32_t w = fresh ? UINT32_MAX : static_cast<uint32_t>(head);
       for (; w != UINT32_MAX; w = next[w])
-        if (std::memcmp(&mesh.positions[w], &mesh.positions[v], sizeof(Vec3)) == 0) break;
+        if (bits_of(w) == bits) break;
       if (w != UINT32_MAX) {
         weld[m][v] = w;
       } else {
