@@ -404,16 +404,13 @@ class Gears final : public ShadowMethod {
                 const CandidateBatch* from = &sc.batch;
                 if (sc.group_ends.size() > 1) {
                   const int gm = g1 - static_cast<int>(g0);
-                  sc.gx.resize(gm), sc.gy.resize(gm), sc.gz.resize(gm);
+                  sc.gx.resize(gm), sc.gy.resize(gm), sc.gz.resize(gm), sc.gp.resize(gm);
+                  uint64_t outside = ~uint64_t{0};
                   for (int j = 0; j < gm; ++j) {
                     const int i = sc.group_order[g0 + j];
                     sc.gx[j] = sc.ix[i], sc.gy[j] = sc.iy[i], sc.gz[j] = sc.iz[i];
-                  }
-                  uint64_t outside = ~uint64_t{0};
-                  sc.gp.resize(gm);
-                  for (int j = 0; j < gm; ++j) {
-                    sc.gp[j] = p_light[cells.sorted[item.begin + sc.group_order[g0 + j]].item];
-                    outside &= sc.outside[sc.group_order[g0 + j]];
+                    sc.gp[j] = p_light[cells.sorted[item.begin + i].item];
+                    outside &= sc.outside[i];
                   }
                   sc.group_batch.narrow(
                       sc.batch, item_bounds(flat, sc.gx.data(), sc.gy.data(), sc.gz.data(), gm),
