@@ -3,6 +3,7 @@
 // occluders, round lights, irregular sample patterns, and the LUT variant's error.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -12,6 +13,7 @@
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
 #include "penumbra/shadows/gears/raster.hpp"
+#include "penumbra/shadows/gears/solids.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
 
@@ -282,6 +284,79 @@ TEST(Gears, PixelCullIsConservative) {
   EXPECT_GT(blocking, 100);
   EXPECT_GT(culled, 2000);
   EXPECT_GT(near_plane, 1000);
+}
+
+/// raster_rows_or rasterizes lanes whose shadow box is a few rows tall row by row (one row of 16
+/// triangles at a time) and the others triangle by triangle; both give the bits raster_rows gives
+/// each triangle alone. Random batches of small and large triangles seen from random points, k of
+/// 5, 16 and 32 (two row registers), including lines parallel to the rows.
+TEST(Gears, RowByRowRasterizationEqualsPerTriangleRows) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int short_batches = 0, lanes_covering = 0, flat_lanes = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int k = trial % 3 == 0 ? 5 : trial % 3 == 1 ? 16 : 32;
+    const Vec3 p(unit(rng) * 2.0f - 0.5f, unit(rng) * 2.0f - 0.5f, 1.0f + 3.0f * unit(rng));
+    // Sizes from a hundredth of the sample spacing (dense meshes) to a tenth of the light.
+    const float size = (trial % 4 == 3 ? 0.1f : 0.01f + 0.1f * unit(rng)) * 0.3f;
+    std::vector<gears::PackedTriangle> packed(gears::kLanes);
+    std::vector<gears::CellPair> pairs(gears::kLanes);
+    for (int t = 0; t < gears::kLanes; ++t) {
+      const Vec3 x(unit(rng), unit(rng), 0.0f);
+      const Vec3 centre = p + (0.2f + 0.6f * unit(rng)) * (x - p);
+      for (int v = 0; v < 3; ++v) {
+        Vec3 q = centre + size * Vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f);
+        if (t == 0 && v == 1) {  // edge 0–1 along u: its line is parallel to the rows (b = 0)
+          q.y = packed[t].v[1];
+          q.z = packed[t].v[2];
+        }
+        for (int c = 0; c < 3; ++c) packed[t].v[3 * v + c] = q[c];
+      }
+      packed[t].zmin = 0.0f;
+      packed[t].hx0 = packed[t].hy0 = kInfinity, packed[t].hx1 = packed[t].hy1 = -kInfinity;
+      packed[t].opaque = 1, packed[t].solid = gears::kNoSolid;
+      pairs[t] = {0, static_cast<uint32_t>(t)};
+    }
+    const std::vector<gears::TrianglePlane> planes(gears::kLanes);
+    const gears::ItemBounds all{kInfinity, -kInfinity, kInfinity, -kInfinity, kInfinity};
+    gears::CandidateBatch batch;
+    batch.gather(packed.data(), planes.data(), pairs.data(), pairs.data() + pairs.size(), all);
+    ASSERT_EQ(batch.count, gears::kLanes);
+    gears::PixelLight light;
+    light.p = p, light.w = -p;
+    gears::LineBatch lines;
+    const uint32_t lanes =
+        gears::setup_batch(batch, 0, light, Vec2(0.5f / k), Vec2(1 - 0.5f / k), k, lines);
+    int few = 0;
+    for (int l = 0; l < gears::kLanes; ++l) {
+      const bool short_box = (lanes >> l & 1) && (lines.cells.boxed >> l & 1) &&
+                             lines.cells.box[3][l] - lines.cells.box[2][l] < 4;
+      few += short_box;
+      bool flat = false;
+      for (int m = 0; m < 4; ++m) flat |= lines.b[m][l] == 0.0f;
+      flat_lanes += short_box && flat;
+    }
+    short_batches += few > 4;
+    uint32_t want[32] = {}, got[32] = {};
+    uint32_t want_hit = 0;
+    for (int l = 0; l < gears::kLanes; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      uint32_t one[48] = {};
+      if (gears::raster_rows(lines, l, k, one) != 0) want_hit |= 1u << l;
+      for (int j = 0; j < k; ++j) want[j] |= one[j];
+    }
+    const uint32_t hit = gears::raster_rows_or(lines, lanes, k, got);
+    lanes_covering += std::popcount(hit);
+    ASSERT_EQ(hit, want_hit) << "trial " << trial;
+    for (int j = 0; j < 32; ++j) ASSERT_EQ(got[j], want[j]) << "trial " << trial << " row " << j;
+  }
+  std::printf(
+      "row by row: %d of 3000 batches mostly short, %d lanes cover, %d short with a flat "
+      "edge\n",
+      short_batches, lanes_covering, flat_lanes);
+  EXPECT_GT(short_batches, 800);
+  EXPECT_GT(lanes_covering, 3500);
+  EXPECT_GT(flat_lanes, 300);
 }
 
 /// Bit-for-bit equal per-sample masks of two runs (every pixel, every word).

@@ -435,36 +435,119 @@ uint32_t setup_batch(const CandidateBatch& batch, int first, const PixelLight& l
 
 namespace {
 
-/// Rows jb .. jb+15 of triangle `lane`'s coverage (row j: bits lo..hi); `valid` gets the non-empty
-/// rows. Branch-free over the four lines (their slopes' signs are unpredictable): line m bounds
-/// i from below by t (b > 0) or from above (b < 0); the offsets pick which (gears/raster.hpp).
-inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& valid_rows) {
+/// Covered columns lo … hi of 16 (triangle, row) pairs, element by element: lane l is row j[l] of
+/// the triangle whose row-span lines are lane l of al, c, inv, lo_off, hi_off (b: the lines'
+/// u slopes, for lines parallel to the rows); `valid` marks non-empty spans. Branch-free over
+/// the four lines (their slopes' signs are unpredictable): line m bounds i from below by t
+/// (b > 0) or from above (b < 0); the offsets pick which (gears/raster.hpp). Shared by the
+/// per-triangle form (16 rows of one triangle) and the per-row form (one row of 16 triangles), so
+/// both give the same bits. kFlat: some line may be parallel to the rows (b = 0), all or nothing
+/// per row.
+struct RowSpans {
+  vi lo, hi, valid;
+};
+template <bool kFlat>
+inline RowSpans row_spans(const vf al[4], const vf c[4], const vf inv[4], const vf lo_off[4],
+                          const vf hi_off[4], const vf b[4], vf j, int k) {
   const float kf = static_cast<float>(k);
-  const vf lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-  // A line parallel to the rows (b = 0) is all or nothing per row: rare, kept out of the hot path.
-  const bool flat = (lines.b[0][lane] == 0.0f) | (lines.b[1][lane] == 0.0f) |
-                    (lines.b[2][lane] == 0.0f) | (lines.b[3][lane] == 0.0f);
-  const vf j = lane_index + static_cast<float>(jb);
   // Span [ceil(max of lower bounds), floor(min of upper bounds)]: ceil and floor are monotonic,
   // so taking them once after the max/min gives the same integers as taking them per line.
   vf t_lo = splat(-2.0f), t_hi = splat(kf + 1.0f);  // also the clamp, for the conversions
   vi empty = j >= kf;
   for (int m = 0; m < 4; ++m) {
-    const vf cj = lines.al[m][lane] + lines.c[m][lane] * j;
-    const vf t = cj * lines.inv[m][lane];
-    t_lo = vmax(t_lo, t + lines.lo_off[m][lane]);
-    t_hi = vmin(t_hi, t + lines.hi_off[m][lane]);
-    if (flat && lines.b[m][lane] == 0.0f) empty |= cj < 0.0f;
+    const vf cj = al[m] + c[m] * j;
+    const vf t = cj * inv[m];
+    t_lo = vmax(t_lo, t + lo_off[m]);
+    t_hi = vmin(t_hi, t + hi_off[m]);
+    if constexpr (kFlat) empty |= (b[m] == 0.0f) & (cj < 0.0f);
   }
   const vi lo0 = -floor_small(-vmin(t_lo, splat(kf + 1.0f)));
   const vi hi0 = floor_small(vmax(t_hi, splat(-2.0f)));
-  const vi lo = lo0 > 0 ? lo0 : vi{} + 0;
-  const vi hi = hi0 < (k - 1) ? hi0 : vi{} + (k - 1);
-  const vi valid = (lo <= hi) & ~empty;
-  vu mask = (vu{} + 2u) << __builtin_convertvector(hi > 0 ? hi : vi{} + 0, vu);
-  mask -= (vu{} + 1u) << __builtin_convertvector(lo < 31 ? lo : vi{} + 31, vu);
-  valid_rows = movemask(valid);
-  return mask & __builtin_convertvector(valid, vu);
+  RowSpans out;
+  out.lo = lo0 > 0 ? lo0 : vi{} + 0;
+  out.hi = hi0 < (k - 1) ? hi0 : vi{} + (k - 1);
+  out.valid = (out.lo <= out.hi) & ~empty;
+  return out;
+}
+
+/// Bits lo … hi of each valid span (hi ≤ 31: 2 << 31 wraps to 0, the full row).
+inline vu span_bits(const RowSpans& s) {
+  vu mask = (vu{} + 2u) << __builtin_convertvector(s.hi > 0 ? s.hi : vi{} + 0, vu);
+  mask -= (vu{} + 1u) << __builtin_convertvector(s.lo < 31 ? s.lo : vi{} + 31, vu);
+  return mask & __builtin_convertvector(s.valid, vu);
+}
+
+/// Rows jb .. jb+15 of triangle `lane`'s coverage (row j: bits lo..hi); `valid` gets the non-empty
+/// rows.
+inline vu span_rows(const LineBatch& lines, int lane, int k, int jb, uint32_t& valid_rows) {
+  const vf lane_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  vf al[4], c[4], inv[4], lo_off[4], hi_off[4], b[4];
+  for (int m = 0; m < 4; ++m) {
+    al[m] = splat(lines.al[m][lane]), c[m] = splat(lines.c[m][lane]);
+    inv[m] = splat(lines.inv[m][lane]), b[m] = splat(lines.b[m][lane]);
+    lo_off[m] = splat(lines.lo_off[m][lane]), hi_off[m] = splat(lines.hi_off[m][lane]);
+  }
+  // A line parallel to the rows (b = 0) is rare: kept out of the hot path.
+  const bool flat = (lines.b[0][lane] == 0.0f) | (lines.b[1][lane] == 0.0f) |
+                    (lines.b[2][lane] == 0.0f) | (lines.b[3][lane] == 0.0f);
+  const vf j = lane_index + static_cast<float>(jb);
+  const RowSpans s = flat ? row_spans<true>(al, c, inv, lo_off, hi_off, b, j, k)
+                          : row_spans<false>(al, c, inv, lo_off, hi_off, b, j, k);
+  valid_rows = movemask(s.valid);
+  return span_bits(s);
+}
+
+/// The lanes of `lanes` whose shadow box (ShadowCells) is at most kShortRows rows tall, where
+/// rasterizing them row by row (raster_short_or) costs less than triangle by triangle: one pass
+/// over the 16 lanes per row of the tallest box against one per triangle and 16 rows of k.
+constexpr int kShortRows = 4;
+inline uint32_t short_lanes(const ShadowCells& cells, uint32_t lanes, int k) {
+  vi j0, j1;
+  std::memcpy(&j0, cells.box[2], sizeof(j0));
+  std::memcpy(&j1, cells.box[3], sizeof(j1));
+  const vi height = j1 - j0 + 1;
+  const uint32_t few = movemask(height <= kShortRows) & cells.boxed & lanes;
+  int tallest = 0;
+  for (uint32_t l = few; l; l &= l - 1) tallest = std::max(tallest, height[std::countr_zero(l)]);
+  // Measured on dense meshes (k = 16): row by row pays from about one lane more than rows.
+  return std::popcount(few) * ((k + kLanes - 1) / kLanes) > tallest ? few : 0;
+}
+
+/// raster_rows_or for lanes whose shadow box is at most kShortRows rows tall (dense meshes: most
+/// shadows hold one or two sample centres): one row of all 16 triangles at a time, only the rows
+/// of their boxes (every covered sample lies in the box), instead of all k rows of each triangle.
+uint32_t raster_short_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows) {
+  vf al[4], c[4], inv[4], lo_off[4], hi_off[4], b[4];
+  bool flat = false;
+  for (int m = 0; m < 4; ++m) {
+    al[m] = load(lines.al[m]), c[m] = load(lines.c[m]), inv[m] = load(lines.inv[m]);
+    lo_off[m] = load(lines.lo_off[m]), hi_off[m] = load(lines.hi_off[m]), b[m] = load(lines.b[m]);
+    flat |= (movemask(b[m] == 0.0f) & lanes) != 0;
+  }
+  vi j0, j1;
+  std::memcpy(&j0, lines.cells.box[2], sizeof(j0));
+  std::memcpy(&j1, lines.cells.box[3], sizeof(j1));
+  uint32_t hit = 0;
+  for (int dj = 0; dj < kShortRows; ++dj) {
+    const vi j = j0 + dj;
+    const uint32_t live = movemask(j <= j1) & lanes;
+    if (live == 0) break;
+    const vf jf = __builtin_convertvector(j, vf);
+    const RowSpans s = flat ? row_spans<true>(al, c, inv, lo_off, hi_off, b, jf, k)
+                            : row_spans<false>(al, c, inv, lo_off, hi_off, b, jf, k);
+    const uint32_t covered = movemask(s.valid) & live;
+    hit |= covered;
+    alignas(64) uint32_t bits[kLanes];
+    alignas(64) int32_t row[kLanes];
+    const vu m = span_bits(s);
+    std::memcpy(bits, &m, sizeof(bits));
+    std::memcpy(row, &j, sizeof(row));
+    for (uint32_t l = covered; l; l &= l - 1) {
+      const int lane = std::countr_zero(l);
+      rows[row[lane]] |= bits[lane];
+    }
+  }
+  return hit;
 }
 
 }  // namespace
@@ -521,7 +604,10 @@ uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows) {
 }
 
 uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows) {
-  uint32_t hit = 0;
+  const uint32_t few = short_lanes(lines.cells, lanes, k);
+  uint32_t hit = few != 0 ? raster_short_or(lines, few, k, rows) : 0;
+  lanes &= ~few;
+  if (lanes == 0) return hit;
   for (int jb = 0; jb < k; jb += kLanes) {
     vu acc;
     std::memcpy(&acc, rows + jb, sizeof(acc));
