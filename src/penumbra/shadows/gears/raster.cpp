@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
 
 #include "penumbra/shadows/gears/solids.hpp"
@@ -159,6 +160,42 @@ void CandidateBatch::pad() {
   }
 }
 
+#if defined(__AVX512F__)
+// GCC 12 flags the intrinsics' own _mm512_undefined pass-through operands as maybe uninitialized.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+namespace {
+
+/// 16 × 16 transpose of 32-bit elements: on return, lane i of row[j] is element j of input row i
+/// (unpacks of 32- and 64-bit elements, then two rounds of 128-bit block shuffles).
+inline void transpose16(__m512i row[16]) {
+  __m512i t[16];
+  for (int i = 0; i < 16; i += 2) {
+    t[i] = _mm512_unpacklo_epi32(row[i], row[i + 1]);
+    t[i + 1] = _mm512_unpackhi_epi32(row[i], row[i + 1]);
+  }
+  for (int i = 0; i < 16; i += 4)
+    for (int h = 0; h < 2; ++h) {
+      row[i + 2 * h] = _mm512_unpacklo_epi64(t[i + h], t[i + 2 + h]);
+      row[i + 2 * h + 1] = _mm512_unpackhi_epi64(t[i + h], t[i + 2 + h]);
+    }
+  // Now row[4g + e], block b: element 4b + e of rows 4g … 4g + 3; the 4 × 4 blocks remain.
+  for (int i = 0; i < 16; i += 8)
+    for (int h = 0; h < 4; ++h) {
+      t[i + h] = _mm512_shuffle_i32x4(row[i + h], row[i + 4 + h], 0x88);      // blocks 0, 2
+      t[i + 4 + h] = _mm512_shuffle_i32x4(row[i + h], row[i + 4 + h], 0xdd);  // blocks 1, 3
+    }
+  for (int h = 0; h < 8; ++h) {
+    row[h] = _mm512_shuffle_i32x4(t[h], t[8 + h], 0x88);
+    row[8 + h] = _mm512_shuffle_i32x4(t[h], t[8 + h], 0xdd);
+  }
+}
+
+}  // namespace
+#endif
+
 void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* planes,
                             const CellPair* begin, const CellPair* end, const ItemBounds& item) {
   // The list is sorted by zmin: the depth cut keeps a prefix.
@@ -167,12 +204,52 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
   reserve(static_cast<size_t>(end - begin) + kLanes);
   count = 0;
   read = static_cast<int>(end - begin);
-  // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
-  // is unpredictable, the copy is one cache line).
   // The list is in depth order, its triangles scattered through `tris`: the loads miss the cache
   // and the loop's few instructions cannot hide that, so the lines are prefetched well ahead.
   constexpr std::ptrdiff_t kAhead = 16;
-  for (const CellPair* pair = begin; pair != end; ++pair) {
+  const CellPair* pair = begin;
+#if defined(__AVX512F__)
+  // 16 triangles at a time: one cache line each into a register, transposed into the 16 fields'
+  // lanes, tested together and compressed into the arrays (one store per field and 16 triangles
+  // instead of one per field and triangle).
+  static_assert(sizeof(PackedTriangle) == 64 && offsetof(PackedTriangle, zmin) == 36 &&
+                offsetof(PackedTriangle, solid) == 60);
+  const __m512 zmax = _mm512_set1_ps(item.zmax), ix0 = _mm512_set1_ps(item.ix0),
+               ix1 = _mm512_set1_ps(item.ix1), iy0 = _mm512_set1_ps(item.iy0),
+               iy1 = _mm512_set1_ps(item.iy1);
+  for (; end - pair >= kLanes; pair += kLanes) {
+    __m512i row[16];
+    alignas(64) uint32_t id[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      if (end - pair > kAhead + l) __builtin_prefetch(&tris[pair[kAhead + l].item]);
+      id[l] = pair[l].item;
+      row[l] = _mm512_load_si512(&tris[id[l]]);
+    }
+    transpose16(row);
+    auto f = [&](int field) { return _mm512_castsi512_ps(row[field]); };
+    const __mmask16 m =
+        _mm512_cmp_ps_mask(f(9), zmax, _CMP_LE_OQ) & _mm512_cmp_ps_mask(ix0, f(10), _CMP_LE_OQ) &
+        _mm512_cmp_ps_mask(ix1, f(11), _CMP_GE_OQ) & _mm512_cmp_ps_mask(iy0, f(12), _CMP_LE_OQ) &
+        _mm512_cmp_ps_mask(iy1, f(13), _CMP_GE_OQ);
+    if (m == 0) continue;
+    auto put = [&](auto* to, __m512i x) {
+      _mm512_storeu_si512(to + count, _mm512_maskz_compress_epi32(m, x));
+    };
+    for (int c = 0; c < 9; ++c) put(v[c].data(), row[c]);
+    put(zmin.data(), row[9]);
+    put(hx0.data(), row[10]);
+    put(hx1.data(), row[11]);
+    put(hy0.data(), row[12]);
+    put(hy1.data(), row[13]);
+    put(opaque.data(), row[14]);
+    put(solid.data(), row[15]);
+    put(tri.data(), _mm512_load_si512(id));
+    count += std::popcount(static_cast<uint32_t>(m));
+  }
+#endif
+  // Branch-free compaction: every pair is written, only the kept ones advance `count` (the test
+  // is unpredictable, the copy is one cache line).
+  for (; pair != end; ++pair) {
     if (end - pair > kAhead) __builtin_prefetch(&tris[pair[kAhead].item]);
     const uint32_t t = pair->item;
     const PackedTriangle& p = tris[t];
@@ -193,6 +270,9 @@ void CandidateBatch::gather(const PackedTriangle* tris, const TrianglePlane* pla
   }
   pad();
 }
+#if defined(__AVX512F__) && defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 namespace {
 
