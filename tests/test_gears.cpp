@@ -634,14 +634,33 @@ TEST(Gears, SemiOpaqueOccluderMatchesRaytrace) {
   EXPECT_LE(diff / rt.per_light[0].lit.size(), 1e-3);
 }
 
+/// A frame not asked for its masks shades each pixel from its own bits in its work item (no
+/// frame-size array): the same V, bit for bit, as shading from the frame's masks, and less memory
+/// (at least the array: 64² pixels × 4 words).
+TEST(Gears, ShadingWithoutTheFrameMasksGivesTheSameV) {
+  for (const char* scene : {"spheres", "quad"}) {
+    const auto t = make_test_frame(scene, 64, 64, grid_samples(16));
+    const Visibility in_place = t.run("gears", {}, false).per_light[0];
+    const Visibility from_masks = t.run("gears", {}, true).per_light[0];
+    EXPECT_EQ(in_place.lit.pixels(), from_masks.lit.pixels()) << scene;
+    EXPECT_GE(from_masks.counters.at("memory_bytes") - in_place.counters.at("memory_bytes"),
+              64.0 * 64.0 * 4.0 * 8.0)
+        << scene;
+    size_t shadowed = 0;
+    for (float v : in_place.lit.pixels()) shadowed += v < 1.0f;
+    EXPECT_GT(shadowed, 100u) << scene;
+  }
+}
+
 /// Semi-opaque occluders need per-sample transmittances only while their pixel is rasterized:
 /// the memory they add is one n-float buffer per thread, not frame × samples (here that would be
 /// ≈ 3.5 MB: ~3 500 active pixels × 256 samples × 4 bytes).
 TEST(Gears, SemiOpaqueMemoryIsPerWorkItem) {
   const auto glass = make_test_frame(glass_spheres(true), 64, 64, grid_samples(16));
   const auto opaque = make_test_frame(glass_spheres(false), 64, 64, grid_samples(16));
-  const double with = glass.run("gears").per_light[0].counters.at("memory_bytes");
-  const double without = opaque.run("gears").per_light[0].counters.at("memory_bytes");
+  // Both keep their masks (an opaque frame that is not asked for them needs no frame-size array).
+  const double with = glass.run("gears", {}, true).per_light[0].counters.at("memory_bytes");
+  const double without = opaque.run("gears", {}, true).per_light[0].counters.at("memory_bytes");
   const double per_thread = 256.0 * sizeof(float);
   std::printf("memory: semi-opaque %.0f bytes, opaque %.0f bytes\n", with, without);
   EXPECT_GE(with - without, per_thread);

@@ -64,6 +64,7 @@ struct Scratch {
   std::vector<Vec3> gp;           // one group's samples (unmirrored light space)
   std::vector<uint64_t> outside;  // the item's samples: Solids::outside
   std::vector<uint64_t> cover, blocked;
+  std::vector<uint64_t> own;        // a pixel's mask words, where the frame holds none
   uint32_t rows[32], tri_rows[32];  // k ≤ 32 rows (row spans write whole 16-row registers)
 };
 
@@ -86,8 +87,6 @@ class Gears final : public ShadowMethod {
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     if (emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
-    // The bits are always produced; kept in the result only when asked for.
-    SampleMasks masks(g.width, g.height, n);
 
     // Which rasterizer: row spans need the regular grid (sample i in cell (i % k, i / k) at its
     // centre); the LUT needs shared positions; everything else tests sample by sample.
@@ -239,6 +238,14 @@ class Gears final : public ShadowMethod {
       if (!per_pixel_samples && frame0.emits(shared[s]))
         emit_words[s >> 6] |= uint64_t{1} << (s & 63), ++emit_count;
     const bool simple_weights = !emission && !per_pixel_samples && !point;
+    // Each pixel's bits are produced in its work item. The frame's array holds them when they are
+    // asked for or when step 5 shades from them (weighted lights, semi-opaque occluders);
+    // otherwise each pixel is shaded from its own bits at once, and the pixels no pass reaches
+    // keep V = 1 (no bit set): no frame-size array to clear (32 MB at 1024², k 16) nor to read.
+    const bool shade_in_place =
+        !ctx.want_masks && simple_weights && !any_translucent && emit_count > 0;
+    SampleMasks masks;
+    if (!shade_in_place) masks = SampleMasks(g.width, g.height, n);
 
     AssignStats astats;
     std::atomic<uint64_t> from_grid{0}, gathered{0}, item_kept{0}, group_kept{0}, pixel_scanned{0},
@@ -249,9 +256,9 @@ class Gears final : public ShadowMethod {
 
     tbb::enumerable_thread_specific<Scratch> scratch;
 
-    // Step 5 for one pixel: V from its mask (and transmittances `tr`, semi-opaque occluders only).
-    auto shade = [&](uint32_t pix, const float* tr, Scratch& sc) {
-      const uint64_t* m = masks.pixel(pix);
+    // Step 5 for one pixel: V from its mask words `m` (and transmittances `tr`, semi-opaque
+    // occluders only).
+    auto shade = [&](uint32_t pix, const uint64_t* m, const float* tr, Scratch& sc) {
       if (simple_weights && !tr) {
         int blocked = 0;
         for (int i = 0; i < words; ++i) blocked += std::popcount(m[i] & emit_words[i]);
@@ -390,8 +397,10 @@ class Gears final : public ShadowMethod {
                 // masks stay zero, and only semi-opaque scenes shade here.
                 if (any_translucent) {
                   sc.trans.assign(n, 1.0f);
-                  for (int i = 0; i < m; ++i)
-                    shade(active[cells.sorted[item.begin + i].item], sc.trans.data(), sc);
+                  for (int i = 0; i < m; ++i) {
+                    const uint32_t pix = active[cells.sorted[item.begin + i].item];
+                    shade(pix, masks.pixel(pix), sc.trans.data(), sc);
+                  }
                 }
                 continue;
               }
@@ -632,6 +641,10 @@ class Gears final : public ShadowMethod {
                     done = rasterize(sc.batch);
                   }
                   uint64_t* out = masks.pixel(pix);
+                  if (shade_in_place) {
+                    sc.own.assign(words, 0);
+                    out = sc.own.data();
+                  }
                   if (use_rows) {
                     rows_to_words(sc.rows, k, out);
                   } else if (point) {
@@ -645,7 +658,7 @@ class Gears final : public ShadowMethod {
                   // Only emitting samples carry bits (SampleMasks convention).
                   if (!point)
                     for (int i = 0; i < words; ++i) out[i] &= em[i];
-                  if (tr) shade(pix, tr, sc);
+                  if (tr || shade_in_place) shade(pix, out, tr, sc);
                 }
               }
             }
@@ -671,19 +684,21 @@ class Gears final : public ShadowMethod {
 
     // ---- Step 5: V per pixel, weighted exactly as raytrace weights its rays. Scenes with
     // semi-opaque occluders shade inside the work item (above), while the pixel's transmittances
-    // are in the thread's scratch: memory per work item, not frame × samples.
+    // are in the thread's scratch: memory per work item, not frame × samples. Without the
+    // frame's masks, every pixel a pass reached was shaded there and the others keep V = 1.
     t0 = std::chrono::steady_clock::now();
-    parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
-      Scratch& sc = scratch.local();
-      for (size_t a = b; a < e; ++a) {
-        if (!any_translucent) {
-          shade(active[a], nullptr, sc);
-        } else if (!may_be_shadowed[a]) {  // the grid passes shaded the others
-          sc.trans.assign(n, 1.0f);
-          shade(active[a], sc.trans.data(), sc);
+    if (!shade_in_place)
+      parallel_chunks(active.size(), 1024, [&](size_t b, size_t e) {
+        Scratch& sc = scratch.local();
+        for (size_t a = b; a < e; ++a) {
+          if (!any_translucent) {
+            shade(active[a], masks.pixel(active[a]), nullptr, sc);
+          } else if (!may_be_shadowed[a]) {  // the grid passes shaded the others
+            sc.trans.assign(n, 1.0f);
+            shade(active[a], masks.pixel(active[a]), sc.trans.data(), sc);
+          }
         }
-      }
-    });
+      });
     vis.times.add("shading", elapsed_ms(t0));
 
     Counters& c = vis.counters;
