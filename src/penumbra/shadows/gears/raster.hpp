@@ -160,6 +160,8 @@ uint32_t raster_rows(const LineBatch& lines, int lane, int k, uint32_t* rows);
 
 /// raster_rows for several opaque triangles (bit l of `lanes`: lane l), OR-ed into rows[0..k)
 /// (size as for raster_rows) without a branch on coverage; returns the lanes that cover a sample.
+/// Lanes whose shadow box (lines.cells) is a few rows tall go row by row, 16 triangles at once,
+/// over their boxes' rows only; the bits are those of raster_rows.
 uint32_t raster_rows_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t* rows);
 
 /// Per-sample rasterization (any sample positions: irregular patterns, point lights, k > 32):
