@@ -58,18 +58,32 @@ CellRect footprint(const GridCamera& cam, const DVec3 tri[3], double z_t) {
   const DVec2 lo_grid(cam.grid_lo), scale(cam.cell_scale);
   const double plane = cam.plane_z;
   DVec2 lo(1e300), hi(-1e300);
-  auto add = [&](const DVec3& q) {
-    const double s = (plane - eye.z) / (q.z - eye.z);
-    const DVec2 g((eye.x + (q.x - eye.x) * s - lo_grid.x) * scale.x,
-                  (eye.y + (q.y - eye.y) * s - lo_grid.y) * scale.y);
+  auto add_scaled = [&](double qx, double qy, double s) {  // s: C's scale at the point's depth
+    const DVec2 g((eye.x + (qx - eye.x) * s - lo_grid.x) * scale.x,
+                  (eye.y + (qy - eye.y) * s - lo_grid.y) * scale.y);
     lo = glm::min(lo, g);
     hi = glm::max(hi, g);
   };
-  for (int i = 0; i < n; ++i) {
-    add(poly[i]);
-    for (const Vec3& lf : cam.light_corners) {
-      const DVec3 l(lf);
-      add(l + (poly[i] - l) * ((z_t - l.z) / (poly[i].z - l.z)));
+  auto add = [&](const DVec3& q) { add_scaled(q.x, q.y, (plane - eye.z) / (q.z - eye.z)); };
+  const bool flat = std::all_of(cam.light_corners.begin(), cam.light_corners.end(),
+                                [](const Vec3& l) { return l.z == 0.0f; });
+  if (flat) {
+    // Light corners on z = 0 (rectangles, disks, points): the extrusions of a vertex share one
+    // ratio z_t / v.z, and all lie on z = z_t, where C has one scale.
+    const double s_t = (plane - eye.z) / (z_t - eye.z);
+    for (int i = 0; i < n; ++i) {
+      add(poly[i]);
+      const double r = z_t / poly[i].z;
+      for (const Vec3& lf : cam.light_corners)
+        add_scaled(lf.x + (poly[i].x - lf.x) * r, lf.y + (poly[i].y - lf.y) * r, s_t);
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      add(poly[i]);
+      for (const Vec3& lf : cam.light_corners) {
+        const DVec3 l(lf);
+        add(l + (poly[i] - l) * ((z_t - l.z) / (poly[i].z - l.z)));
+      }
     }
   }
   // Float rounding of the sample projections is far below a thousandth of a cell.
