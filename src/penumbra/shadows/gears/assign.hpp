@@ -24,7 +24,7 @@ struct TriangleSoup {
 
 /// Pixel samples bucketed by grid cell (step 3.2), with the per-cell maximum depth.
 struct PixelCells {
-  std::vector<CellPair> sorted;      // (cell, pixel index), sorted by cell then pixel
+  CellPairs sorted;                  // (cell, pixel index), sorted by cell then pixel
   std::vector<uint32_t> begin, end;  // per cell, into `sorted`
   std::vector<float> max_z;          // per cell, −inf when empty
   std::vector<float> sample_z;       // per entry of `sorted`: the sample's depth
@@ -50,7 +50,7 @@ struct AssignStats {
 /// Candidate triangles per cell: cell c's triangles are pairs[begin[c] .. end[c]), by ascending
 /// nearest depth zmin (ties: ascending id).
 struct CellTriangles {
-  std::vector<CellPair> pairs;  // sorted by cell
+  CellPairs pairs;  // sorted by cell
   std::vector<uint32_t> begin, end;
   std::vector<float> zmin;  // per triangle: its nearest depth from the light (this pass's sign)
   size_t bytes() const {

@@ -320,10 +320,10 @@ class Gears final : public ShadowMethod {
       FlatLight flat = flat_light(cam);
       if (!per_pixel_samples && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
       wait_for_solids();
-      std::vector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
+      UninitVector<PackedTriangle> packed = pack_triangles(soup, side, table.zmin, flat);
       if (solids.count() > 0)
         for (size_t t = 0; t < tri_count; ++t) packed[t].solid = solids.of_triangle[t];
-      const std::vector<TrianglePlane> planes =
+      const UninitVector<TrianglePlane> planes =
           triangle_planes(soup, plane_test_corners(flat, cam));
       peak_bytes = std::max(peak_bytes, table.bytes() + packed.size() * sizeof(PackedTriangle) +
                                             planes.size() * sizeof(TrianglePlane) +

@@ -45,9 +45,10 @@ FlatLight shrink_to_samples(FlatLight light, Vec2 lo, Vec2 hi) {
   return light;
 }
 
-std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
-                                           const std::vector<float>& zmin, const FlatLight& light) {
-  std::vector<PackedTriangle> out(soup.size());
+UninitVector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
+                                            const std::vector<float>& zmin,
+                                            const FlatLight& light) {
+  UninitVector<PackedTriangle> out(soup.size());  // every field written below
   const float sgn = side < 0 ? -1.0f : 1.0f;
   parallel_chunks(soup.size(), 4096, [&](size_t b, size_t e) {
     for (size_t t = b; t < e; ++t) {
@@ -164,9 +165,9 @@ std::vector<Vec3> plane_test_corners(const FlatLight& light, const GridCamera& c
           Vec3(light.lx0, light.ly1, 0.0f), Vec3(light.lx1, light.ly1, 0.0f)};
 }
 
-std::vector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
-                                           const std::vector<Vec3>& light_corners) {
-  std::vector<TrianglePlane> out(soup.size());
+UninitVector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
+                                            const std::vector<Vec3>& light_corners) {
+  UninitVector<TrianglePlane> out(soup.size());  // every field written below
   float corner_inf = 0.0f;
   for (const Vec3& c : light_corners)
     corner_inf = std::max({corner_inf, std::abs(c.x), std::abs(c.y), std::abs(c.z)});

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "penumbra/core/uninit_vector.hpp"
 #include "penumbra/shadows/gears/assign.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
 
@@ -57,8 +58,8 @@ FlatLight shrink_to_samples(FlatLight light, Vec2 lo, Vec2 hi);
 
 /// Packs the soup for one pass (`side` mirrors depths as in assign_triangles); `zmin` is that
 /// pass's per-triangle nearest depth (CellTriangles::zmin).
-std::vector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
-                                           const std::vector<float>& zmin, const FlatLight& light);
+UninitVector<PackedTriangle> pack_triangles(const TriangleSoup& soup, int side,
+                                            const std::vector<float>& zmin, const FlatLight& light);
 
 /// Bounds of samples (x[i], y[i], z[i]) (z: this pass's depth).
 ItemBounds item_bounds(const FlatLight& light, const float* x, const float* y, const float* z,
@@ -82,8 +83,8 @@ inline constexpr float kPlaneRel = 1e-5f;
 
 /// Planes of the soup's triangles against `light_corners` (unmirrored light space; for the light
 /// samples' box of a flat light, its four corners at z = 0).
-std::vector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
-                                           const std::vector<Vec3>& light_corners);
+UninitVector<TrianglePlane> triangle_planes(const TriangleSoup& soup,
+                                            const std::vector<Vec3>& light_corners);
 /// The corners the plane test bounds the light points by: the flat light's (sample) box at z = 0,
 /// or the camera's light corners (a sphere's cube, a point).
 /// Splits the samples (x[i], y[i], z[i]), i < count, of one work item into groups of at most

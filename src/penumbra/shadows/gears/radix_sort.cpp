@@ -7,7 +7,7 @@
 
 namespace penumbra::gears {
 
-void radix_sort_by_cell(std::vector<CellPair>& pairs, uint32_t cell_count) {
+void radix_sort_by_cell(CellPairs& pairs, uint32_t cell_count) {
   const size_t n = pairs.size();
   if (n < 2 || cell_count < 2) return;
   int passes = 0;
@@ -15,7 +15,7 @@ void radix_sort_by_cell(std::vector<CellPair>& pairs, uint32_t cell_count) {
   // Fixed chunking (not thread-count dependent) keeps the sort deterministic; it is stable anyway.
   const size_t chunks = std::clamp<size_t>(n / 16384, 1, 256);
   const size_t chunk_size = (n + chunks - 1) / chunks;
-  std::vector<CellPair> tmp(n);
+  CellPairs tmp(n);
   std::vector<std::array<uint32_t, 256>> offsets(chunks);
   CellPair* src = pairs.data();
   CellPair* dst = tmp.data();
@@ -48,8 +48,8 @@ void radix_sort_by_cell(std::vector<CellPair>& pairs, uint32_t cell_count) {
   if (src != pairs.data()) std::copy(src, src + n, pairs.data());
 }
 
-void cell_ranges(const std::vector<CellPair>& sorted, uint32_t cell_count,
-                 std::vector<uint32_t>& begin, std::vector<uint32_t>& end) {
+void cell_ranges(const CellPairs& sorted, uint32_t cell_count, std::vector<uint32_t>& begin,
+                 std::vector<uint32_t>& end) {
   begin.assign(cell_count, 0);
   end.assign(cell_count, 0);
   const size_t n = sorted.size();

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "penumbra/core/uninit_vector.hpp"
+
 namespace penumbra::gears {
 
 struct CellPair {
@@ -12,12 +14,15 @@ struct CellPair {
   uint32_t item;  // triangle id or pixel index
 };
 
+/// Pair arrays are written in full right after they are sized (in parallel): not zeroed first.
+using CellPairs = UninitVector<CellPair>;
+
 /// Stable LSD radix sort on `cell` (8-bit digits, as many passes as cell_count needs), parallel
 /// over fixed chunks with per-chunk histograms: the result never depends on the thread count.
-void radix_sort_by_cell(std::vector<CellPair>& pairs, uint32_t cell_count);
+void radix_sort_by_cell(CellPairs& pairs, uint32_t cell_count);
 
 /// begin/end offsets per cell of a sorted pair array (parallel over pairs; empty cells 0, 0).
-void cell_ranges(const std::vector<CellPair>& sorted, uint32_t cell_count,
-                 std::vector<uint32_t>& begin, std::vector<uint32_t>& end);
+void cell_ranges(const CellPairs& sorted, uint32_t cell_count, std::vector<uint32_t>& begin,
+                 std::vector<uint32_t>& end);
 
 }  // namespace penumbra::gears
