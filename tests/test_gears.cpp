@@ -3,6 +3,7 @@
 // occluders, round lights, irregular sample patterns, and the LUT variant's error.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "penumbra/shadows/gears/raster.hpp"
 #include "penumbra/shadows/gears/solids.hpp"
 #include "support/frame_helpers.hpp"
+#include "support/gears_batch.hpp"
 #include "support/mask_agreement.hpp"
 
 namespace penumbra {
@@ -346,28 +348,16 @@ TEST(Gears, RowByRowRasterizationEqualsPerTriangleRows) {
     const Vec3 p(unit(rng) * 2.0f - 0.5f, unit(rng) * 2.0f - 0.5f, 1.0f + 3.0f * unit(rng));
     // Sizes from a hundredth of the sample spacing (dense meshes) to a tenth of the light.
     const float size = (trial % 4 == 3 ? 0.1f : 0.01f + 0.1f * unit(rng)) * 0.3f;
-    std::vector<gears::PackedTriangle> packed(gears::kLanes);
-    std::vector<gears::CellPair> pairs(gears::kLanes);
-    for (int t = 0; t < gears::kLanes; ++t) {
+    std::vector<std::array<Vec3, 3>> tris(gears::kLanes);
+    for (auto& tri : tris) {
       const Vec3 x(unit(rng), unit(rng), 0.0f);
       const Vec3 centre = p + (0.2f + 0.6f * unit(rng)) * (x - p);
-      for (int v = 0; v < 3; ++v) {
-        Vec3 q = centre + size * Vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f);
-        if (t == 0 && v == 1) {  // edge 0–1 along u: its line is parallel to the rows (b = 0)
-          q.y = packed[t].v[1];
-          q.z = packed[t].v[2];
-        }
-        for (int c = 0; c < 3; ++c) packed[t].v[3 * v + c] = q[c];
-      }
-      packed[t].zmin = 0.0f;
-      packed[t].hx0 = packed[t].hy0 = kInfinity, packed[t].hx1 = packed[t].hy1 = -kInfinity;
-      packed[t].opaque = 1, packed[t].solid = gears::kNoSolid;
-      pairs[t] = {0, static_cast<uint32_t>(t)};
+      for (Vec3& q : tri)
+        q = centre + size * Vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f);
     }
-    const std::vector<gears::TrianglePlane> planes(gears::kLanes);
-    const gears::ItemBounds all{kInfinity, -kInfinity, kInfinity, -kInfinity, kInfinity};
-    gears::CandidateBatch batch;
-    batch.gather(packed.data(), planes.data(), pairs.data(), pairs.data() + pairs.size(), all);
+    // Edge 0–1 of the first along u: its line is parallel to the rows (b = 0).
+    tris[0][1].y = tris[0][0].y, tris[0][1].z = tris[0][0].z;
+    const gears::CandidateBatch batch = test::opaque_batch(tris);
     ASSERT_EQ(batch.count, gears::kLanes);
     gears::PixelLight light;
     light.p = p, light.w = -p;

@@ -11,6 +11,7 @@
 #include "penumbra/shadows/gears/raster.hpp"
 #include "penumbra/shadows/gears/solids.hpp"
 #include "support/frame_helpers.hpp"
+#include "support/gears_batch.hpp"
 #include "support/mask_agreement.hpp"
 
 namespace penumbra {
@@ -141,20 +142,7 @@ TEST(GearsSolids, SharedEdgesLeaveNoCrack) {
     const Vec3 a = p + (0.3f + 0.2f * unit(rng)) * ray + (0.01f + 0.05f * unit(rng)) * d;
     const Vec3 b = p + (0.3f + 0.2f * unit(rng)) * ray - (0.01f + 0.05f * unit(rng)) * d;
     const Vec3 c = p + 0.4f * ray + e, dd = p + 0.4f * ray - e;
-    const Vec3 tris[2][3] = {{a, b, c}, {b, a, dd}};
-    gears::CandidateBatch batch;
-    gears::PackedTriangle packed[2];
-    for (int t = 0; t < 2; ++t) {
-      for (int v = 0; v < 3; ++v)
-        for (int q = 0; q < 3; ++q) packed[t].v[3 * v + q] = tris[t][v][q];
-      packed[t].zmin = 0.0f;
-      packed[t].hx0 = packed[t].hy0 = kInfinity, packed[t].hx1 = packed[t].hy1 = -kInfinity;
-      packed[t].opaque = 1, packed[t].solid = gears::kNoSolid;
-    }
-    const gears::TrianglePlane planes[2] = {};
-    const gears::CellPair pairs[2] = {{0, 0}, {0, 1}};
-    const gears::ItemBounds all{kInfinity, -kInfinity, kInfinity, -kInfinity, kInfinity};
-    batch.gather(packed, planes, pairs, pairs + 2, all);
+    const gears::CandidateBatch batch = test::opaque_batch({{a, b, c}, {b, a, dd}});
     ASSERT_EQ(batch.count, 2);
     gears::PixelLight light;
     light.p = p, light.w = -p;
