@@ -1,5 +1,8 @@
 // ExactScene and ExactLight: the per-frame and per-light preparation of the exact reference,
 // including the decomposition of alpha-textured triangles into their opaque pieces.
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -380,9 +383,13 @@ std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
 }  // namespace
 
 ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) : scene_(&scene) {
+  // The set-up is a frame's serial start (≈ 45 ms on 20 k triangles): its independent parts run
+  // side by side — the caps beside the occluders, the adjacency beside the BVH.
   // Opaque uncut meshes: candidates for back-face culling, closed by caps where they are open.
   std::vector<uint32_t> solid_of_mesh(scene.meshes.size(), ExactOccluder::kNotSolid);
-  if (cull_back_faces) {
+  tbb::task_group caps_task;
+  caps_task.run([&] {
+    if (!cull_back_faces) return;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
       const Mesh& mesh = scene.meshes[m];
       const Material& mat = scene.material_of(mesh);
@@ -394,7 +401,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
       solid_of_mesh[m] = static_cast<uint32_t>(solids_.size());
       solids_.push_back(solid);
     }
-  }
+  });
 
   struct Item {
     uint32_t mesh, tri;
@@ -447,7 +454,6 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
       box.extend(mesh.vertex(items[k].tri, i));
     }
     o.transmittance = std::max(0.0, static_cast<double>(mat.transmittance));
-    o.solid = solid_of_mesh[items[k].mesh];
     if (mat.alpha_texture >= 0 && !alpha[k].whole) {
       if (alpha[k].pieces.empty()) continue;  // all holes
       o.cut = true;
@@ -465,8 +471,11 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
     occluder_mesh.push_back(items[k].mesh);
     boxes.push_back(box);
   }
-  link_neighbours(occluders_, occluder_mesh);
-  bvh_.build(boxes, leaf_size);
+  caps_task.wait();
+  for (size_t k = 0; k < occluders_.size(); ++k)
+    occluders_[k].solid = solid_of_mesh[occluder_mesh[k]];
+  tbb::parallel_invoke([&] { link_neighbours(occluders_, occluder_mesh); },
+                       [&] { bvh_.build(boxes, leaf_size); });
   // Occluders in leaf order: a pixel's candidates are then read from a few runs of memory.
   const std::vector<uint32_t>& order = bvh_.primitives();
   std::vector<uint32_t> new_index(order.size());

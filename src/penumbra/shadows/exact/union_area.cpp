@@ -13,15 +13,21 @@ struct SweepEdge {
   int dir;  // +1 going up, −1 going down: the winding number's step across it
 };
 
-/// An edge crossing the current beam [ya, yb]: its abscissae at both ends and at the middle.
+/// An edge crossing the current beam [ya, yb]: its abscissae at both ends (xa also serves as the
+/// abscissa where the width is measured) and its upper end, in 32 bytes (the sorts move these).
 struct Crossing {
+  double xa, xb;
+  double y1;  // sweep[edge].y1
   uint32_t edge;
-  int dir;
-  double xa, xb, x;
-  // integrate_by_swaps: the winding number left of the edge, its coefficient in the uncovered
-  // width (+1: an uncovered interval ends here, −1: one starts, 0: neither) and since when.
-  int w_left = 0, coefficient = 0;
-  double since = 0.0;
+  int32_t dir;
+};
+
+/// integrate_by_swaps, per position in the beam's order: the winding number left of the edge
+/// there, its coefficient in the uncovered width (+1: an uncovered interval ends here, −1: one
+/// starts, 0: neither) and since when.
+struct Coefficients {
+  std::vector<int> w_left, coefficient;
+  std::vector<double> since;
 };
 
 /// Two edges, `left` left of `right` at the beam's bottom, crossing at ordinate y.
@@ -38,53 +44,53 @@ struct Swap {
 /// not neighbours at its turn (several crossings at one point, or close ones that rounding
 /// reordered): the caller then splits the beam.
 bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossing>& active,
-                        std::vector<Swap>& swaps, std::vector<uint32_t>& pos, double ya, double yb,
-                        double side, double& area) {
+                        std::vector<Swap>& swaps, std::vector<uint32_t>& pos, Coefficients& co,
+                        double ya, double yb, double side, double& area) {
   std::sort(swaps.begin(), swaps.end(), [](const Swap& a, const Swap& b) { return a.y < b.y; });
+  const size_t n = active.size();
+  co.w_left.resize(n), co.coefficient.resize(n), co.since.resize(n);
   int w = 0;
-  for (size_t k = 0; k < active.size(); ++k) {
-    Crossing& c = active[k];
-    pos[c.edge] = static_cast<uint32_t>(k);
-    c.w_left = w;
-    w += c.dir;
-    c.coefficient = (c.w_left == 0 ? 1 : 0) - (w == 0 ? 1 : 0);
-    c.since = ya;
+  for (size_t k = 0; k < n; ++k) {
+    pos[active[k].edge] = static_cast<uint32_t>(k);
+    co.w_left[k] = w;
+    w += active[k].dir;
+    co.coefficient[k] = (co.w_left[k] == 0 ? 1 : 0) - (w == 0 ? 1 : 0);
+    co.since[k] = ya;
   }
   double sum = 0.0;
-  const auto flush = [&](Crossing& c, double y) {
-    if (c.coefficient != 0) {
-      const SweepEdge& e = sweep[c.edge];
-      sum += c.coefficient * (y - c.since) * (e.x0 + (0.5 * (y + c.since) - e.y0) * e.slope);
+  const auto flush = [&](size_t k, double y) {
+    if (co.coefficient[k] != 0) {
+      const SweepEdge& e = sweep[active[k].edge];
+      const double since = co.since[k];
+      sum += co.coefficient[k] * (y - since) * (e.x0 + (0.5 * (y + since) - e.y0) * e.slope);
     }
-    c.since = y;
+    co.since[k] = y;
   };
   for (const Swap& s : swaps) {
     const uint32_t p = pos[s.left], q = pos[s.right];
     if (q != p + 1) return false;
-    flush(active[p], s.y);
-    flush(active[q], s.y);
+    flush(p, s.y);
+    flush(q, s.y);
     std::swap(active[p], active[q]);
     pos[s.right] = p;
     pos[s.left] = q;
-    Crossing& a = active[p];
-    Crossing& b = active[q];
-    a.w_left = b.w_left;
-    b.w_left = a.w_left + a.dir;
-    a.coefficient = (a.w_left == 0 ? 1 : 0) - (b.w_left == 0 ? 1 : 0);
-    b.coefficient = (b.w_left == 0 ? 1 : 0) - (b.w_left + b.dir == 0 ? 1 : 0);
+    // The winding left of position p is unchanged; right of the new left edge it steps by its dir.
+    co.w_left[q] = co.w_left[p] + active[p].dir;
+    co.coefficient[p] = (co.w_left[p] == 0 ? 1 : 0) - (co.w_left[q] == 0 ? 1 : 0);
+    co.coefficient[q] = (co.w_left[q] == 0 ? 1 : 0) - (co.w_left[q] + active[q].dir == 0 ? 1 : 0);
   }
-  for (Crossing& c : active) flush(c, yb);
+  for (size_t k = 0; k < n; ++k) flush(k, yb);
   area += sum + (w == 0 ? (yb - ya) * side : 0.0);
   return true;
 }
 
-/// Sorts by x; the array is nearly sorted from one beam to the next, so insertion sort is linear
-/// in practice.
+/// Sorts by xa (the abscissa where the width is measured); the array is nearly sorted, so
+/// insertion sort is linear in practice.
 void sort_by_x(std::vector<Crossing>& active) {
   for (size_t i = 1; i < active.size(); ++i) {
     const Crossing key = active[i];
     size_t j = i;
-    while (j > 0 && active[j - 1].x > key.x) {
+    while (j > 0 && active[j - 1].xa > key.xa) {
       active[j] = active[j - 1];
       --j;
     }
@@ -93,12 +99,13 @@ void sort_by_x(std::vector<Crossing>& active) {
 }
 
 /// The total length of [0, side] where the winding number is 0, from the edges crossing one
-/// horizontal line, sorted by their x there (those along the right side left out).
-double uncovered_width(const std::vector<Crossing>& sorted, double side) {
+/// horizontal line, sorted by their x there (`x(c)`; those along the right side left out).
+template <class X>
+double uncovered_width(const std::vector<Crossing>& sorted, double side, X x_of) {
   int w = 0;
   double prev = 0.0, width = 0.0;
   for (const Crossing& c : sorted) {
-    const double x = std::clamp(c.x, 0.0, side);
+    const double x = std::clamp(x_of(c), 0.0, side);
     width += w == 0 ? x - prev : 0.0;
     w += c.dir;
     prev = x;
@@ -128,6 +135,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
   thread_local std::vector<Crossing> by_top;
   thread_local std::vector<Swap> swaps;
   thread_local std::vector<uint32_t> pos;
+  thread_local Coefficients co;
   sweep.clear();
   order.clear();
   left.clear();
@@ -217,17 +225,17 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
     double yb = side;
     size_t kept = 0;
     for (const Crossing& c : active) {
-      const double y1 = sweep[c.edge].y1;
-      if (y1 > ya) {
+      if (c.y1 > ya) {
         active[kept++] = c;
-        yb = std::min(yb, y1);
+        yb = std::min(yb, c.y1);
       }
     }
     active.resize(kept);
+    const size_t continuing = kept;  // active[0, continuing) were in the previous beam
     for (; next < order.size() && lower_end(next) <= ya; ++next) {
       const uint32_t k = order[next].edge;
       const SweepEdge& e = sweep[k];
-      active.push_back({k, e.dir, e.x0, e.x0, e.x0});
+      active.push_back({e.x0, e.x0, e.y1, k, e.dir});
       yb = std::min(yb, e.y1);
     }
     if (next < order.size()) yb = std::min(yb, lower_end(next));
@@ -238,10 +246,12 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       continue;
     }
     const double h = yb - ya;
+    // Abscissae at both ends: at ya the previous beam's top, for an edge that just started its
+    // lower end. End points exactly: edges meeting at a vertex then meet in x too, never a false
+    // crossing.
+    for (size_t i = 0; i < continuing; ++i) active[i].xa = active[i].xb;
     for (Crossing& c : active) {
       const SweepEdge& e = sweep[c.edge];
-      // End points exactly: edges meeting at a vertex then meet in x too, never a false crossing.
-      c.xa = ya == e.y0 ? e.x0 : e.x0 + (ya - e.y0) * e.slope;
       c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
     }
     // Order at ya, ties by the order at yb (nearly sorted already: the previous beam's order at
@@ -261,8 +271,8 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
     if (ordered) {
       // In order at both ends, so no two edges cross inside the beam: the uncovered width is
       // linear in y there, and its value at the middle times the height is the beam's exact area.
-      for (Crossing& c : active) c.x = 0.5 * (c.xa + c.xb);
-      area += h * uncovered_width(active, side);
+      area +=
+          h * uncovered_width(active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); });
       ya = yb;
       continue;
     }
@@ -284,7 +294,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       }
       by_top[j] = key;
     }
-    if (integrate_by_swaps(sweep, active, swaps, pos, ya, yb, side, area)) {
+    if (integrate_by_swaps(sweep, active, swaps, pos, co, ya, yb, side, area)) {
       ya = yb;
       continue;
     }
@@ -299,12 +309,12 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
     for (const double hi : cuts) {
       if (!(hi > lo)) continue;
       const double mid = 0.5 * (lo + hi);
-      for (Crossing& c : active) {
+      for (Crossing& c : active) {  // xa as scratch: the next beam takes its xa from xb
         const SweepEdge& e = sweep[c.edge];
-        c.x = e.x0 + (mid - e.y0) * e.slope;
+        c.xa = e.x0 + (mid - e.y0) * e.slope;
       }
       sort_by_x(active);
-      area += (hi - lo) * uncovered_width(active, side);
+      area += (hi - lo) * uncovered_width(active, side, [](const Crossing& c) { return c.xa; });
       lo = hi;
     }
     ya = yb;
