@@ -2,10 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <map>
+#include <random>
+#include <tuple>
 #include <utility>
 
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/scene/topology.hpp"
+#include "penumbra/scene/weld.hpp"
 
 namespace penumbra {
 namespace {
@@ -119,6 +124,43 @@ TEST(Topology, DegenerateAndEmptyMeshes) {
   const MeshTopology t = analyze_topology(m);
   EXPECT_EQ(t.edges, 0u);
   EXPECT_FALSE(t.closed_manifold);
+}
+
+/// weld_positions, the one welding rule every mesh analysis shares: representatives are the first
+/// vertex at each bit-identical position (−0 = +0), against a brute-force map on 20 000 vertices
+/// drawn from 300 positions, some of them ±0 and one ulp apart.
+TEST(Weld, FirstVertexAtEachBitIdenticalPosition) {
+  std::mt19937 rng(7);
+  std::vector<Vec3> pool;
+  std::uniform_real_distribution<float> coord(-2.0f, 2.0f);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 p(coord(rng), coord(rng), coord(rng));
+    pool.push_back(p);
+    pool.push_back(Vec3(std::nextafter(p.x, 10.0f), p.y, p.z));  // one ulp away: distinct
+    pool.push_back(Vec3(i % 2 ? -0.0f : 0.0f, 0.5f, i % 3 ? -0.0f : 0.0f));  // all one point
+  }
+  std::uniform_int_distribution<size_t> pick(0, pool.size() - 1);
+  std::vector<Vec3> positions(20000);
+  for (Vec3& p : positions) p = pool[pick(rng)];
+  const std::vector<uint32_t> weld = weld_positions(positions);
+  ASSERT_EQ(weld.size(), positions.size());
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> first;
+  size_t groups = 0;
+  for (uint32_t i = 0; i < positions.size(); ++i) {
+    auto bits = [](float x) {
+      const float y = x + 0.0f;
+      uint32_t b = 0;
+      std::memcpy(&b, &y, sizeof b);
+      return b;
+    };
+    const auto key =
+        std::make_tuple(bits(positions[i].x), bits(positions[i].y), bits(positions[i].z));
+    const auto [it, added] = first.try_emplace(key, i);
+    groups += added;
+    ASSERT_EQ(weld[i], it->second) << "vertex " << i;
+  }
+  EXPECT_EQ(groups, 201u);  // 100 points, their 100 ulp neighbours, one (±0, 0.5, ±0)
+  EXPECT_TRUE(weld_positions({}).empty());
 }
 
 }  // namespace

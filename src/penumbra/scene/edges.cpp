@@ -1,16 +1,14 @@
 #include "penumbra/scene/edges.hpp"
 
 #include <algorithm>
-#include <bit>
+#include <array>
 #include <tuple>
+
+#include "penumbra/scene/weld.hpp"
 
 namespace penumbra {
 
 namespace {
-
-uint32_t float_bits(float x) {
-  return std::bit_cast<uint32_t>(x + 0.0f);
-}  // -0 → +0
 
 /// One face's use of one edge, before grouping.
 struct HalfEdge {
@@ -24,30 +22,7 @@ struct HalfEdge {
 MeshEdges build_mesh_edges(const Mesh& mesh) {
   MeshEdges out;
   const size_t nv = mesh.positions.size();
-  // Weld by sorting vertex indices on their exact coordinate bits (stable: the first index of a
-  // group of equal positions is its representative).
-  out.weld.resize(nv);
-  {
-    struct Key {
-      uint32_t x, y, z, index;
-    };
-    std::vector<Key> keys(nv);
-    for (uint32_t i = 0; i < nv; ++i) {
-      const Vec3& p = mesh.positions[i];
-      keys[i] = {float_bits(p.x), float_bits(p.y), float_bits(p.z), i};
-    }
-    std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-      return std::tie(a.x, a.y, a.z, a.index) < std::tie(b.x, b.y, b.z, b.index);
-    });
-    for (size_t k = 0; k < nv;) {
-      size_t e = k + 1;
-      while (e < nv && keys[e].x == keys[k].x && keys[e].y == keys[k].y && keys[e].z == keys[k].z)
-        ++e;
-      for (size_t j = k; j < e; ++j)
-        out.weld[keys[j].index] = keys[k].index;  // first index of the group
-      k = e;
-    }
-  }
+  out.weld = weld_positions(mesh.positions);
 
   const size_t nf = mesh.triangles.size();
   out.faces.assign(nf, {kNoFace, kNoFace, kNoFace});

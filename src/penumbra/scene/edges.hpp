@@ -41,11 +41,12 @@ inline constexpr uint32_t kNoFace = 0xffffffffu;
 /// Full edge adjacency of one mesh.
 ///
 /// Welding tolerance: zero. Two vertices are merged iff their coordinates are bit-identical floats
-/// (−0 = +0) — the rule analyze_topology (topology.hpp) uses, so `penumbra info` and the shadow
-/// methods agree. Why no distance tolerance: shadow-volume counting is exact only if the extruded
-/// quads of two faces sharing an edge start from the very same two points; moving vertices to
-/// close cracks would change the occluder the reference (Embree) sees. A crack of any size stays a
-/// pair of boundary edges, which the signed-multiplicity rule (silhouettes.hpp) handles correctly.
+/// (−0 = +0), by weld_positions (weld.hpp), as analyze_topology (topology.hpp) does, so
+/// `penumbra info` and the shadow methods agree. Why no distance tolerance: shadow-volume counting
+/// is exact only if the extruded quads of two faces sharing an edge start from the very same two
+/// points; moving vertices to close cracks would change the occluder the reference (Embree) sees. A
+/// crack of any size stays a pair of boundary edges, which the signed-multiplicity rule
+/// (silhouettes.hpp) handles correctly.
 struct MeshEdges {
   /// For every vertex of the mesh, the index of the first vertex at the same position.
   std::vector<uint32_t> weld;

@@ -1,32 +1,14 @@
 #include "penumbra/scene/topology.hpp"
 
-#include <array>
-#include <bit>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
 
+#include "penumbra/scene/weld.hpp"
+
 namespace penumbra {
 
 namespace {
-
-using PositionKey = std::array<uint32_t, 3>;
-
-struct PositionKeyHash {
-  size_t operator()(const PositionKey& k) const {
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (uint32_t x : k) {
-      h ^= x;
-      h *= 0x100000001b3ull;
-      h ^= h >> 29;
-    }
-    return static_cast<size_t>(h);
-  }
-};
-
-uint32_t float_bits(float x) {
-  return std::bit_cast<uint32_t>(x + 0.0f);  // + 0.0f maps -0.0 to +0.0
-}
 
 /// Adjacent-face count of one undirected edge (lo, hi), and how many faces traverse it lo → hi.
 struct EdgeUse {
@@ -37,17 +19,7 @@ struct EdgeUse {
 }  // namespace
 
 MeshTopology analyze_topology(const Mesh& mesh) {
-  // Weld: map every vertex index to the index of the first vertex at the same position.
-  std::vector<uint32_t> weld(mesh.positions.size());
-  {
-    std::unordered_map<PositionKey, uint32_t, PositionKeyHash> first;
-    first.reserve(mesh.positions.size());
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-      const Vec3& p = mesh.positions[i];
-      const PositionKey key{float_bits(p.x), float_bits(p.y), float_bits(p.z)};
-      weld[i] = first.try_emplace(key, static_cast<uint32_t>(i)).first->second;
-    }
-  }
+  const std::vector<uint32_t> weld = weld_positions(mesh.positions);
 
   std::unordered_map<uint64_t, EdgeUse> edges;
   edges.reserve(mesh.triangles.size() * 2);

@@ -9,11 +9,11 @@ namespace penumbra {
 
 /// Edge statistics of a triangle mesh after welding vertices by position.
 ///
-/// Welding is exact: two vertices are the same point iff their coordinates are bit-identical
-/// floats (after mapping -0.0 to +0.0); there is no distance tolerance, so nearly coincident
-/// vertices (cracks of any size) count as distinct and their edges as boundary edges.
-/// Triangles whose welded corners are not three distinct vertices (or that index out of range)
-/// are ignored.
+/// Welding is exact (weld_positions, weld.hpp): two vertices are the same point iff their
+/// coordinates are bit-identical floats (after mapping -0.0 to +0.0); there is no distance
+/// tolerance, so nearly coincident vertices (cracks of any size) count as distinct and their edges
+/// as boundary edges. Triangles whose welded corners are not three distinct vertices (or that index
+/// out of range) are ignored.
 struct MeshTopology {
   size_t edges = 0;               // distinct undirected edges
   size_t boundary_edges = 0;      // edges with exactly one adjacent triangle (open surface)

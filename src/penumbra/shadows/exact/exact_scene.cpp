@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -13,7 +12,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
-#include "penumbra/core/rng.hpp"
+#include "penumbra/scene/weld.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
 
 namespace penumbra {
@@ -192,42 +191,14 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
   return out;
 }
 
-/// The caps that close `mesh` into a 2-cycle (ExactSolid). Vertices are welded by bit-identical
-/// position (as MeshTopology does); every directed edge a→b counts +1 on the undirected edge and
+/// The caps that close `mesh` into a 2-cycle (ExactSolid). `weld`: weld_positions of its vertices
+/// (scene/weld.hpp); every directed edge a→b counts +1 on the undirected edge and
 /// b→a −1, and an edge left with net n ≠ 0 is |n| boundary edges in the direction of its sign. At
 /// every vertex as many boundary edges leave as arrive (each triangle is a cycle), so they split
 /// into closed walks; the reversed fan over each walk has minus that walk as its boundary, so
 /// mesh + fans has none. False when more than kMaxCapTriangles would be needed.
-bool make_caps(const Mesh& mesh, ExactSolid& solid) {
-  struct Key {
-    uint32_t x, y, z;
-    bool operator==(const Key&) const = default;
-  };
-  struct KeyHash {
-    size_t operator()(const Key& k) const {
-      return static_cast<size_t>(
-          splitmix64((uint64_t{k.x} << 32 | k.y) ^ (uint64_t{k.z} * 0x9e3779b97f4a7c15ull)));
-    }
-  };
-  const auto key_of = [](Vec3 v) {
-    Key k{};
-    for (int i = 0; i < 3; ++i) {
-      const float c = v[i] == 0.0f ? 0.0f : v[i];  // -0 and +0 weld
-      uint32_t bits = 0;
-      std::memcpy(&bits, &c, sizeof bits);
-      (i == 0 ? k.x : i == 1 ? k.y : k.z) = bits;
-    }
-    return k;
-  };
-  std::unordered_map<Key, uint32_t, KeyHash> ids;
-  std::vector<uint32_t> weld(mesh.positions.size());
-  std::vector<Vec3> welded;
-  for (size_t i = 0; i < mesh.positions.size(); ++i) {
-    const auto [it, added] =
-        ids.try_emplace(key_of(mesh.positions[i]), static_cast<uint32_t>(welded.size()));
-    if (added) welded.push_back(mesh.positions[i]);
-    weld[i] = it->second;
-  }
+bool make_caps(const Mesh& mesh, const std::vector<uint32_t>& weld, ExactSolid& solid) {
+  const std::vector<Vec3>& welded = mesh.positions;  // a representative's own position
   std::unordered_map<uint64_t, int> net;
   for (const Triangle& t : mesh.triangles)
     for (int e = 0; e < 3; ++e) {
@@ -277,40 +248,23 @@ bool make_caps(const Mesh& mesh, ExactSolid& solid) {
   return solid.caps.size() <= kMaxCapTriangles;
 }
 
-/// Fills ExactOccluder::neighbour for the opaque uncut triangles: corners welded by bit-identical
-/// position within a mesh (−0 = +0), an edge paired only when exactly two triangles use it, in
-/// opposite directions. Sorting, not hashing: linear-ish and deterministic.
-void link_neighbours(std::vector<ExactOccluder>& occluders, const std::vector<uint32_t>& mesh_of) {
-  struct Corner {
-    uint32_t mesh;
-    uint32_t bits[3];
-    uint32_t slot;  // occluder · 3 + corner
-  };
-  std::vector<Corner> corners;
-  corners.reserve(3 * occluders.size());
+/// Fills ExactOccluder::neighbour for the opaque uncut triangles: corners welded by position within
+/// a mesh (`welds`: weld_positions per mesh, scene/weld.hpp), an edge paired only when exactly two
+/// triangles use it, in opposite directions. Occluder t is triangle tri_of[t] of mesh mesh_of[t].
+/// The edges are sorted, not hashed: deterministic.
+void link_neighbours(std::vector<ExactOccluder>& occluders, const Scene& scene,
+                     const std::vector<std::vector<uint32_t>>& welds,
+                     const std::vector<uint32_t>& mesh_of, const std::vector<uint32_t>& tri_of) {
+  std::vector<uint32_t> vertex_base(scene.meshes.size() + 1, 0);  // welded ids, offset per mesh
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    vertex_base[m + 1] = vertex_base[m] + static_cast<uint32_t>(welds[m].size());
+  std::vector<uint32_t> vertex_of(3 * occluders.size(), 0xFFFFFFFFu);
   for (size_t t = 0; t < occluders.size(); ++t) {
     const ExactOccluder& o = occluders[t];
     if (o.cut || o.transmittance > 0.0) continue;
-    for (int c = 0; c < 3; ++c) {
-      Corner k{mesh_of[t], {}, static_cast<uint32_t>(3 * t + c)};
-      for (int i = 0; i < 3; ++i) {
-        const float x = static_cast<float>(o.v[c][i]);
-        const float w = x == 0.0f ? 0.0f : x;
-        std::memcpy(&k.bits[i], &w, sizeof(float));
-      }
-      corners.push_back(k);
-    }
-  }
-  const auto key = [](const Corner& c) {
-    return std::tie(c.mesh, c.bits[0], c.bits[1], c.bits[2]);
-  };
-  std::sort(corners.begin(), corners.end(),
-            [&](const Corner& a, const Corner& b) { return key(a) < key(b); });
-  std::vector<uint32_t> vertex_of(3 * occluders.size(), 0xFFFFFFFFu);
-  uint32_t next_id = 0;
-  for (size_t i = 0; i < corners.size(); ++i) {
-    if (i > 0 && key(corners[i]) != key(corners[i - 1])) ++next_id;
-    vertex_of[corners[i].slot] = next_id;
+    const uint32_t m = mesh_of[t];
+    const Triangle& tri = scene.meshes[m].triangles[tri_of[t]];
+    for (int c = 0; c < 3; ++c) vertex_of[3 * t + c] = vertex_base[m] + welds[m][tri.v[c]];
   }
   struct Edge {
     uint32_t lo, hi, slot;  // slot: occluder · 3 + edge; lo→hi is the forward direction
@@ -387,15 +341,18 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   // side by side — the caps beside the occluders, the adjacency beside the BVH.
   // Opaque uncut meshes: candidates for back-face culling, closed by caps where they are open.
   std::vector<uint32_t> solid_of_mesh(scene.meshes.size(), ExactOccluder::kNotSolid);
+  std::vector<std::vector<uint32_t>> welds(scene.meshes.size());  // shadow casters only
   tbb::task_group caps_task;
   caps_task.run([&] {
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      if (scene.meshes[m].casts_shadows) welds[m] = weld_positions(scene.meshes[m].positions);
     if (!cull_back_faces) return;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
       const Mesh& mesh = scene.meshes[m];
       const Material& mat = scene.material_of(mesh);
       if (!mesh.casts_shadows || mat.transmittance > 0.0f || mat.alpha_texture >= 0) continue;
       ExactSolid solid;
-      if (!make_caps(mesh, solid)) continue;
+      if (!make_caps(mesh, welds[m], solid)) continue;
       solid.mesh = static_cast<uint32_t>(m);
       for (const Vec3& v : mesh.positions) solid.box.extend(v);
       solid_of_mesh[m] = static_cast<uint32_t>(solids_.size());
@@ -441,7 +398,7 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   });
 
   std::vector<Bounds3> boxes;
-  std::vector<uint32_t> occluder_mesh;
+  std::vector<uint32_t> occluder_mesh, occluder_tri;
   occluders_.reserve(items.size());
   boxes.reserve(items.size());
   for (size_t k = 0; k < items.size(); ++k) {
@@ -469,13 +426,15 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
     semi_opaque_ = semi_opaque_ || o.transmittance > 0.0;
     occluders_.push_back(o);
     occluder_mesh.push_back(items[k].mesh);
+    occluder_tri.push_back(items[k].tri);
     boxes.push_back(box);
   }
   caps_task.wait();
   for (size_t k = 0; k < occluders_.size(); ++k)
     occluders_[k].solid = solid_of_mesh[occluder_mesh[k]];
-  tbb::parallel_invoke([&] { link_neighbours(occluders_, occluder_mesh); },
-                       [&] { bvh_.build(boxes, leaf_size); });
+  tbb::parallel_invoke(
+      [&] { link_neighbours(occluders_, scene, welds, occluder_mesh, occluder_tri); },
+      [&] { bvh_.build(boxes, leaf_size); });
   // Occluders in leaf order: a pixel's candidates are then read from a few runs of memory.
   const std::vector<uint32_t>& order = bvh_.primitives();
   std::vector<uint32_t> new_index(order.size());

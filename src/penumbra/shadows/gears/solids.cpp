@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <numeric>
 
 #include "penumbra/core/parallel.hpp"
-#include "penumbra/core/rng.hpp"
+#include "penumbra/scene/weld.hpp"
 
 namespace penumbra::gears {
 
@@ -17,72 +16,20 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
   return x;
 }
 
-/// Open-addressing table from nonzero 64-bit keys to small integers (linear probing).
-class KeyTable {
- public:
-  explicit KeyTable(size_t most) {
-    size_t size = 16;
-    while (size < 2 * most) size *= 2;
-    keys_.assign(size, 0);
-    values_.assign(size, 0);
-    mask_ = size - 1;
-  }
-  /// The slot of `key`, inserted (value 0) if new; `fresh` tells which.
-  int32_t& at(uint64_t key, bool& fresh) {
-    size_t i = splitmix64(key) & mask_;
-    while (keys_[i] != 0 && keys_[i] != key) i = (i + 1) & mask_;
-    fresh = keys_[i] == 0;
-    keys_[i] = key;
-    return values_[i];
-  }
-
- private:
-  std::vector<uint64_t> keys_;
-  std::vector<int32_t> values_;
-  size_t mask_ = 0;
-};
-
 }  // namespace
 
 Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   Solids out;
   const size_t n = soup.size();
   out.of_triangle.assign(n, kNoSolid);
-  // Welded vertex ids: per mesh, the first vertex at each position — bit-identical coordinates,
-  // −0 = +0, the project's welding rule (scene/edges.hpp). build_mesh_edges is not used: its two
-  // sorts take twice this whole function on 50–90 k triangles, and it runs per light and frame.
+  // Welded vertex ids: per mesh, the first vertex at each position (scene/weld.hpp).
+  // build_mesh_edges is not used: its edge sort takes longer than this whole function on 50–90 k
+  // triangles, and it runs per light and frame.
   std::vector<std::vector<uint32_t>> weld(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     if (!mesh.casts_shadows || !scene.material_of(mesh).is_opaque()) continue;
-    const size_t nv = mesh.positions.size();
-    weld[m].resize(nv);
-    // Buckets by a hash of the position; equal positions are then compared exactly.
-    KeyTable first(nv);
-    std::vector<uint32_t> next(nv, UINT32_MAX);  // chain of vertices sharing a hash
-    auto bits_of = [&](uint32_t v) {
-      const Vec3& p = mesh.positions[v];
-      return std::array<uint32_t, 3>{std::bit_cast<uint32_t>(p.x + 0.0f),
-                                     std::bit_cast<uint32_t>(p.y + 0.0f),
-                                     std::bit_cast<uint32_t>(p.z + 0.0f)};
-    };
-    for (uint32_t v = 0; v < nv; ++v) {
-      const std::array<uint32_t, 3> bits = bits_of(v);
-      const uint64_t key =
-          splitmix64(uint64_t{bits[0]} << 32 | bits[1]) ^ splitmix64(uint64_t{bits[2]});
-      bool fresh = false;
-      int32_t& head = first.at(key | 1, fresh);
-      uint32_t w = fresh ? UINT32_MAX : static_cast<uint32_t>(head);
-      for (; w != UINT32_MAX; w = next[w])
-        if (bits_of(w) == bits) break;
-      if (w != UINT32_MAX) {
-        weld[m][v] = w;
-      } else {
-        weld[m][v] = v;
-        next[v] = fresh ? UINT32_MAX : static_cast<uint32_t>(head);
-        head = static_cast<int32_t>(v);
-      }
-    }
+    weld[m] = weld_positions(mesh.positions);
   }
   // Components: triangles joined by shared welded vertices (union-find over vertex ids, offset per
   // mesh), then the directed-edge balance of each.
