@@ -108,8 +108,12 @@ TEST(MeshFiles, MalformedOffAndPlyAreRefusedWithTheReason) {
       {"ply_bypass.ply", "corrupt header: PLY declares"},   // 4 KB of comments hid the count
       {"off_bypass.off", "corrupt header: OFF declares"},   // 6 GB allocated for a 4 KB file
       {"off_index_oob.off", "OFF: face 1 has vertex index '99' (the file has 4 vertices)"},
-      // A fuzzer's: a vertical tab after end_header, which assimp never saw the end of.
-      {"ply_vtab_end_header.ply", "PLY header: control character 11 in line 'end_header"},
+      // A fuzzer's: a vertical tab after end_header, which assimp never saw the end of (refused
+      // at its first line with a control character, a mangled element line before it).
+      {"ply_vtab_end_header.ply", "PLY header: control character 3 in line 'el"},
+      // A fuzzer's: control bytes and a NUL in a stray line, then "element face 4000000000" in
+      // the same line: assimp split the line at the NUL and allocated 64 GB.
+      {"ply_nul_hides_element.ply", "PLY header: control character 6 in line '9"},
       // A fuzzer's: 4e9 binary records of no property, which assimp looped over.
       {"plyb_records_without_properties.ply",
        "PLY header: element 'face' has 4000000000 records but no properties"},
