@@ -198,7 +198,6 @@ AlphaPieces decompose_alpha(const Texture& tex, const DVec2 uv[3], const DVec3 w
 /// into closed walks; the reversed fan over each walk has minus that walk as its boundary, so
 /// mesh + fans has none. False when more than kMaxCapTriangles would be needed.
 bool make_caps(const Mesh& mesh, const std::vector<uint32_t>& weld, ExactSolid& solid) {
-  const std::vector<Vec3>& welded = mesh.positions;  // a representative's own position
   std::unordered_map<uint64_t, int> net;
   for (const Triangle& t : mesh.triangles)
     for (int e = 0; e < 3; ++e) {
@@ -238,10 +237,10 @@ bool make_caps(const Mesh& mesh, const std::vector<uint32_t>& weld, ExactSolid& 
         at = to;
       }
       Bounds3 box;
-      for (const uint32_t v : walk) box.extend(welded[v]);
+      for (const uint32_t v : walk) box.extend(mesh.positions[v]);
       for (size_t i = 1; i + 1 < walk.size(); ++i)
-        solid.caps.push_back(
-            {DVec3(welded[walk[0]]), DVec3(welded[walk[i + 1]]), DVec3(welded[walk[i]])});
+        solid.caps.push_back({DVec3(mesh.positions[walk[0]]), DVec3(mesh.positions[walk[i + 1]]),
+                              DVec3(mesh.positions[walk[i]])});
       if (walk.size() >= 3) solid.cap_boxes.push_back(box);
     }
   }
@@ -341,11 +340,16 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   // side by side — the caps beside the occluders, the adjacency beside the BVH.
   // Opaque uncut meshes: candidates for back-face culling, closed by caps where they are open.
   std::vector<uint32_t> solid_of_mesh(scene.meshes.size(), ExactOccluder::kNotSolid);
-  std::vector<std::vector<uint32_t>> welds(scene.meshes.size());  // shadow casters only
+  // Welded vertices of the meshes that can hold opaque uncut triangles (the caps' and the
+  // neighbour links' input); empty for the others.
+  std::vector<std::vector<uint32_t>> welds(scene.meshes.size());
   tbb::task_group caps_task;
   caps_task.run([&] {
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-      if (scene.meshes[m].casts_shadows) welds[m] = weld_positions(scene.meshes[m].positions);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+      const Mesh& mesh = scene.meshes[m];
+      if (mesh.casts_shadows && scene.material_of(mesh).transmittance <= 0.0f)
+        welds[m] = weld_positions(mesh.positions);
+    }
     if (!cull_back_faces) return;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
       const Mesh& mesh = scene.meshes[m];
