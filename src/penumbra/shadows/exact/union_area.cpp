@@ -231,7 +231,6 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       }
     }
     active.resize(kept);
-    const size_t continuing = kept;  // active[0, continuing) were in the previous beam
     for (; next < order.size() && lower_end(next) <= ya; ++next) {
       const uint32_t k = order[next].edge;
       const SweepEdge& e = sweep[k];
@@ -246,12 +245,12 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       continue;
     }
     const double h = yb - ya;
-    // Abscissae at both ends: at ya the previous beam's top, for an edge that just started its
-    // lower end. End points exactly: edges meeting at a vertex then meet in x too, never a false
-    // crossing.
-    for (size_t i = 0; i < continuing; ++i) active[i].xa = active[i].xb;
+    // Abscissae at both ends: at ya the previous beam's top (an edge that just started enters with
+    // xb at its lower end). End points exactly: edges meeting at a vertex then meet in x too, never
+    // a false crossing.
     for (Crossing& c : active) {
       const SweepEdge& e = sweep[c.edge];
+      c.xa = c.xb;
       c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
     }
     // Order at ya, ties by the order at yb (nearly sorted already: the previous beam's order at
