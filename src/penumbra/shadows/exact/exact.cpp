@@ -7,6 +7,7 @@
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/exact/solid_interior.hpp"
 #include "penumbra/shadows/exact/union_area.hpp"
 #include "penumbra/shadows/registry.hpp"
 
@@ -51,28 +52,6 @@ bool segment_hits_triangle(const DVec3& origin, const DVec3& dir, const DVec3& a
   return t > 0.0 && t <= 1.0;
 }
 
-/// Slab test of the segment origin + t·dir, t ∈ [0, 1], against a box (conservative: widened by a
-/// relative 1e-9 so rounding never drops a touching box).
-bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, const Vec3& hi) {
-  double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    const double pad = 1e-9 * (std::abs(static_cast<double>(lo[i])) +
-                               std::abs(static_cast<double>(hi[i])) + 1e-30);
-    const double l = lo[i] - pad, h = hi[i] + pad;
-    if (dir[i] == 0.0) {
-      if (origin[i] < l || origin[i] > h) return false;
-      continue;
-    }
-    const double inv = 1.0 / dir[i];
-    double a = (l - origin[i]) * inv, b = (h - origin[i]) * inv;
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
 /// Does the convex light-uv polygon cover the whole uv square? (Then the receiver is in umbra.)
 bool covers_square(const ClipperLib::Path& poly) {
   const ClipperLib::cInt s = static_cast<ClipperLib::cInt>(kUvScale);
@@ -111,65 +90,6 @@ bool covers_square(const ClipperLib::Path& poly) {
 // (1e-9 of the distance to the light) of p, culled or not; only a surface passing that close to p
 // — a thousand times closer than the shared ray offset — could make the two differ.
 enum class Cull : uint8_t { all, keep_positive, keep_negative, unknown };
-
-/// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle going against / along its normal,
-/// 0 when it misses, kUnsure when it passes within a relative 1e-9 of its boundary or plane.
-constexpr int kUnsure = 2;
-int signed_crossing(const DVec3& origin, const DVec3& seg, const DVec3& a, const DVec3& b,
-                    const DVec3& c) {
-  const DVec3 e1 = b - a, e2 = c - a;
-  const DVec3 pvec = glm::cross(seg, e2);
-  const double det = glm::dot(e1, pvec);
-  const double scale = glm::length(e1) * glm::length(e2) * glm::length(seg);
-  const DVec3 tvec = origin - a;
-  if (!(std::abs(det) > 1e-12 * scale)) {
-    // Nearly parallel: harmless unless the segment runs close to the triangle's plane.
-    const DVec3 n = glm::cross(e1, e2);
-    const double dist = std::abs(glm::dot(tvec, n)) / glm::length(n);
-    return dist > 1e-9 * glm::length(seg) ? 0 : kUnsure;
-  }
-  const double inv = 1.0 / det;
-  const double u = glm::dot(tvec, pvec) * inv;
-  const DVec3 qvec = glm::cross(tvec, e1);
-  const double v = glm::dot(seg, qvec) * inv;
-  const double t = glm::dot(e2, qvec) * inv;
-  constexpr double eps = 1e-9;
-  if (u < -eps || v < -eps || u + v > 1.0 + eps || t < -eps || t > 1.0 + eps) return 0;
-  if (u < eps || v < eps || u + v > 1.0 - eps || t < eps) return kUnsure;
-  return det > 0.0 ? 1 : -1;  // det = −seg·n: positive when the segment goes against n
-}
-
-/// The winding number of S at p, counted along a ray from p out of S's box. False when unsure.
-bool winding_number(const ExactScene& scene, uint32_t solid, const DVec3& p, int& winding) {
-  const ExactSolid& s = scene.solids()[solid];
-  // Any fixed direction works; this one has no simple relation to axis-aligned or grid geometry.
-  const DVec3 dir =
-      glm::normalize(DVec3(0.5773502691896258, 0.6180339887498949, 0.5339082750072306));
-  const double reach = glm::length(p - DVec3(s.box.center())) + s.box.diagonal();
-  const DVec3 seg = (2.0 * reach) * dir;
-  int crossings = 0;
-  bool sure = true;
-  for (const auto& cap : s.caps) {
-    const int c = signed_crossing(p, seg, cap[0], cap[1], cap[2]);
-    if (c == kUnsure) return false;
-    crossings += c;
-  }
-  const auto& occluders = scene.occluders();
-  scene.bvh().traverse(
-      [&](const ExactBvh::Node& n) { return sure && segment_meets_box(p, seg, n.lo, n.hi); },
-      [&](uint32_t prim) {
-        const ExactOccluder& o = occluders[prim];
-        if (o.solid != solid) return true;
-        const int c = signed_crossing(p, seg, o.v[0], o.v[1], o.v[2]);
-        if (c == kUnsure)
-          sure = false;
-        else
-          crossings += c;
-        return sure;
-      });
-  winding = -crossings;  // w(p) + Σ steps = w(far) = 0
-  return sure;
-}
 
 bool boxes_overlap(const Bounds3& a, const Bounds3& b) {
   for (int i = 0; i < 3; ++i) {
@@ -254,7 +174,7 @@ ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
 }  // namespace
 
 ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
-                                  const Vec3& receiver) {
+                                  const Vec3& receiver, ExactUmbraHint* hint) {
   ExactPointResult r;
   const DVec3 p(receiver);
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
@@ -282,6 +202,22 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
                         frame.corner + frame.edge_u + frame.edge_v})
     light_box.extend(c);
+  // In umbra by the solids' inner balls (solid_interior.hpp)? Tried before the traversal where
+  // the previous receiver was (neighbours mostly share their umbra), else after it where something
+  // was met.
+  const auto balls_hide_light = [&](std::span<const uint8_t> solid_met) {
+    const bool hidden = inner_balls_hide_light(scene, p, DVec3(frame.corner), DVec3(frame.edge_u),
+                                               DVec3(frame.edge_v), light_box, proj, solid_met);
+    if (hint != nullptr) hint->previous_umbra = hidden;
+    if (hidden) {
+      r.visible = 0.0;
+      r.visible_rgb = DVec3(0.0);
+      r.umbra_by_ball = true;
+    }
+    return hidden;
+  };
+  const bool hinted = hint != nullptr && hint->previous_umbra;
+  if (hinted && balls_hide_light({})) return r;
   // `side` = normal · (p − v0): positive where p sees the triangle's positive side.
   const auto skipped = [&](const ExactOccluder& o, double side) {
     if (o.solid == ExactOccluder::kNotSolid) return false;
@@ -460,6 +396,14 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.visible_rgb = DVec3(0.0);
     return r;
   }
+  const bool something = !sc.inside.empty() || !sc.open.empty() || clipped_count > 0 ||
+                         !sc.edges.empty() || !semi.empty();
+  if (something && !hinted) {
+    thread_local std::vector<uint8_t> met;
+    met.resize(cull.size());
+    for (size_t s = 0; s < cull.size(); ++s) met[s] = cull[s] != Cull::unknown ? 1 : 0;
+    if (balls_hide_light(met)) return r;
+  }
 
   // The projection's orientation: with M the rows to_u, to_v, to_w, det[h0 h1 h2] =
   // det M · det[x0 − p, x1 − p, x2 − p] = −det M · side, and W > 0 after clipping, so a polygon
@@ -582,7 +526,7 @@ class ExactMethod final : public ShadowMethod {
     // Per-row statistics, summed in row order afterwards: the counters never depend on threads.
     struct RowStats {
       double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
-      double lit = 0, umbra = 0, penumbra = 0, degenerate = 0;
+      double lit = 0, umbra = 0, penumbra = 0, degenerate = 0, umbra_by_ball = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
     {
@@ -590,10 +534,11 @@ class ExactMethod final : public ShadowMethod {
       Progress progress("exact", static_cast<size_t>(g.height));
       parallel_rows(g.height, [&](int y) {
         RowStats& s = rows[static_cast<size_t>(y)];
+        ExactUmbraHint hint;  // per row: the counters never depend on threads
         for (int x = 0; x < g.width; ++x) {
           const size_t i = static_cast<size_t>(y) * g.width + x;
           if (ctx.receivers[i] != kActive) continue;
-          const ExactPointResult r = exact_visibility(scene, light, g.shadow_origin(i));
+          const ExactPointResult r = exact_visibility(scene, light, g.shadow_origin(i), &hint);
           vis.lit[i] = static_cast<float>(r.visible);
           if (vis.lit_rgb) (*vis.lit_rgb)[i] = Vec3(r.visible_rgb);
           s.pixels += 1;
@@ -602,6 +547,7 @@ class ExactMethod final : public ShadowMethod {
           s.polygons += r.polygons;
           s.culled += r.culled;
           s.degenerate += r.degenerate ? 1 : 0;
+          s.umbra_by_ball += r.umbra_by_ball ? 1 : 0;
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
           } else if (r.visible <= 1e-9) {
@@ -625,6 +571,7 @@ class ExactMethod final : public ShadowMethod {
       t.umbra += s.umbra;
       t.penumbra += s.penumbra;
       t.degenerate += s.degenerate;
+      t.umbra_by_ball += s.umbra_by_ball;
     }
     Counters& c = vis.counters;
     c["pixels"] = t.pixels;
@@ -638,6 +585,10 @@ class ExactMethod final : public ShadowMethod {
     c["pixels_umbra"] = t.umbra;
     c["pixels_penumbra"] = t.penumbra;
     c["degenerate_fallbacks"] = t.degenerate;
+    c["pixels_umbra_by_ball"] = t.umbra_by_ball;
+    size_t balls = 0;
+    for (const ExactSolid& solid : scene.solids()) balls += solid.balls.size();
+    c["inner_balls"] = static_cast<double>(balls);
     c["occluder_triangles"] = static_cast<double>(scene.occluders().size());
     c["alpha_pieces"] = static_cast<double>(scene.pieces().size());
     c["bvh_nodes"] = static_cast<double>(scene.bvh().nodes().size());

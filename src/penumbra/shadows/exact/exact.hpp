@@ -8,6 +8,9 @@
 // opaque texel runs, semi-opaque ones multiply by their transmittance per crossing
 // [Forest 2008 §4.3.3], textured lights weight the light by texel.
 //
+// A receiver whose every segment to the light passes through a ball inside a closed opaque mesh is
+// in umbra with nothing projected (solid_interior.hpp).
+//
 // It shares no candidate search with any method it judges (its own BVH, exact/bvh.hpp).
 #pragma once
 
@@ -57,6 +60,13 @@ struct ExactOccluder {
   static constexpr uint32_t kNoNeighbour = 0xFFFFFFFFu;
 };
 
+/// A ball that misses a solid's surface and caps, with a non-zero winding number over it: a segment
+/// through it that ends where the winding number is 0 crosses the surface (solid_interior.hpp).
+struct ExactInnerBall {
+  DVec3 center{0.0};
+  double radius = 0.0;
+};
+
 /// An opaque, uncut mesh made a closed surface: its triangles plus virtual caps — fans over the
 /// closed walks of its boundary (the directed edges whose copies do not cancel: holes, and edges of
 /// inconsistently oriented or non-manifold neighbours), oriented so that mesh + caps is a 2-cycle.
@@ -68,7 +78,9 @@ struct ExactSolid {
   Bounds3 box;  // of the mesh's vertices (caps included)
   uint32_t mesh = 0;
   std::vector<std::array<DVec3, 3>> caps;
-  std::vector<Bounds3> cap_boxes;  // one per boundary walk
+  std::vector<Bounds3> cap_boxes;           // one per boundary walk
+  std::vector<Bounds3> cap_triangle_boxes;  // one per cap triangle
+  std::vector<ExactInnerBall> balls;        // largest first (find_inner_balls)
 };
 /// The normals of a BVH subtree whose triangles all belong to one ExactSolid: every unit normal
 /// lies within the angle θ < 90° of `axis`; the triangles lie in the sphere (center, radius).
@@ -164,12 +176,20 @@ struct ExactPointResult {
   /// The receiver lies in the light's plane (or is not finite): the projection is undefined and
   /// the documented fallback V = 1 ("light touching geometry") was taken.
   bool degenerate = false;
+  /// Decided in umbra by an inner ball of a solid (solid_interior.hpp), nothing projected.
+  bool umbra_by_ball = false;
+};
+
+/// Carried from one receiver to the next (exact_visibility): was the previous one in umbra by the
+/// inner balls? Then they are tried first — neighbours mostly share their umbra.
+struct ExactUmbraHint {
+  bool previous_umbra = false;
 };
 
 /// The exact visibility of `light` from the world point `receiver` (double precision throughout;
 /// the light frame comes from light_frame(light.light(), receiver)).
 ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
-                                  const Vec3& receiver);
+                                  const Vec3& receiver, ExactUmbraHint* hint = nullptr);
 
 /// Convenience for tests and one-off queries: builds the ExactLight on every call.
 double exact_visible_fraction(const ExactScene& scene, const Light& light, Vec3 receiver,

@@ -14,6 +14,7 @@
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/scene/weld.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
+#include "penumbra/shadows/exact/solid_interior.hpp"
 
 namespace penumbra {
 
@@ -359,6 +360,10 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
       if (!make_caps(mesh, welds[m], solid)) continue;
       solid.mesh = static_cast<uint32_t>(m);
       for (const Vec3& v : mesh.positions) solid.box.extend(v);
+      for (const auto& cap : solid.caps) {
+        Bounds3& box = solid.cap_triangle_boxes.emplace_back();
+        for (const DVec3& v : cap) box.extend(Vec3(v));
+      }
       solid_of_mesh[m] = static_cast<uint32_t>(solids_.size());
       solids_.push_back(solid);
     }
@@ -451,13 +456,20 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
   }
   occluders_.swap(sorted);
   bvh_.renumber_in_leaf_order();
-  if (!solids_.empty() && !bvh_.empty()) {
-    node_cones_.resize(bvh_.nodes().size());
-    std::vector<DVec3> unit_normals(occluders_.size());
-    for (size_t t = 0; t < occluders_.size(); ++t)
-      unit_normals[t] = glm::normalize(occluders_[t].normal);
-    make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
-  }
+  // The node cones beside the solids' inner balls (both read the ordered occluders and the BVH).
+  tbb::parallel_invoke(
+      [&] {
+        if (solids_.empty() || bvh_.empty()) return;
+        node_cones_.resize(bvh_.nodes().size());
+        std::vector<DVec3> unit_normals(occluders_.size());
+        for (size_t t = 0; t < occluders_.size(); ++t)
+          unit_normals[t] = glm::normalize(occluders_[t].normal);
+        make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
+      },
+      [&] {
+        for (size_t s = 0; s < solids_.size(); ++s)
+          solids_[s].balls = find_inner_balls(*this, static_cast<uint32_t>(s));
+      });
 }
 
 ExactLight::ExactLight(const Scene& scene, const Light& light, int disk_segments)

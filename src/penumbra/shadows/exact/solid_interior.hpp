@@ -1,0 +1,41 @@
+// Inside the closed surfaces of ExactScene::solids: the winding number at a point, and balls the
+// surface misses, which prove a receiver in umbra without projecting anything (exact_visibility).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "penumbra/shadows/exact/exact.hpp"
+
+namespace penumbra {
+
+/// Slab test of the segment origin + t·dir, t ∈ [0, 1], against a box (conservative: widened by a
+/// relative 1e-9 so rounding never drops a touching box).
+bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, const Vec3& hi);
+
+/// The winding number of solid `s` at p, counted along a ray from p out of its box. False when
+/// unsure (the ray passes within a relative 1e-9 of an edge or runs nearly in a triangle's plane).
+bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& winding);
+
+/// Up to kMaxInnerBalls balls inside solid `s`, largest first: each misses the solid's surface and
+/// caps (its radius is the distance from its centre to them, less a relative 1e-6), and the
+/// winding number at its centre, hence over all of it, is non-zero. Centres: the voxels of a grid
+/// over the solid's box that are farthest from its walls (the voxels its triangles touch) and
+/// from the outside, none inside a larger kept ball. Deterministic (not thread-dependent).
+std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s);
+inline constexpr size_t kMaxInnerBalls = 128;
+inline constexpr int kInnerBallVoxels = 48;  // voxels along the box's longest side
+
+/// Is the receiver p in umbra by the solids' inner balls: does every segment from p to the light
+/// parallelogram (corner, edge_u, edge_v; box `light_box`, projection `proj` from p) pass through
+/// one of them, under the premises that make such a segment cross a solid's surface (see the
+/// definition)? Exact up to a set of measure zero; false when it cannot be shown this way.
+/// `solid_met` (one flag per solid; empty: all): the solids whose balls are tried — a solid whose
+/// balls hide the light has triangles in the pyramid, so a traversal meets it.
+bool inner_balls_hide_light(const ExactScene& scene, const DVec3& p, const DVec3& corner,
+                            const DVec3& edge_u, const DVec3& edge_v, const Bounds3& light_box,
+                            const LightProjection& proj, std::span<const uint8_t> solid_met = {});
+
+}  // namespace penumbra
