@@ -41,7 +41,7 @@ double triangle_distance(const DVec3& p, const DVec3& a, const DVec3& b, const D
       {segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
 }
 
-/// The signed solid angle of triangle (a, b, c) seen from p [Van Oosterom–Strackee], over 4π.
+/// The signed solid angle of triangle (a, b, c) seen from p [Van Oosterom 1983], over 4π.
 double winding_part(const DVec3& p, const DVec3& a0, const DVec3& b0, const DVec3& c0) {
   const DVec3 a = a0 - p, b = b0 - p, c = c0 - p;
   const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);

@@ -467,8 +467,12 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
         make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
       },
       [&] {
+        std::vector<std::vector<uint32_t>> triangles(solids_.size());
+        for (uint32_t t = 0; t < occluders_.size(); ++t)
+          if (occluders_[t].solid != ExactOccluder::kNotSolid)
+            triangles[occluders_[t].solid].push_back(t);
         for (size_t s = 0; s < solids_.size(); ++s)
-          solids_[s].balls = find_inner_balls(*this, static_cast<uint32_t>(s));
+          solids_[s].balls = find_inner_balls(*this, static_cast<uint32_t>(s), triangles[s]);
       });
 }
 

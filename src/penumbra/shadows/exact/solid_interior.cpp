@@ -184,7 +184,8 @@ bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& wi
   return sure;
 }
 
-std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s) {
+std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
+                                             std::span<const uint32_t> triangles) {
   const ExactSolid& solid = scene.solids()[s];
   const DVec3 box_lo(solid.box.lo), extent = DVec3(solid.box.hi) - box_lo;
   const double longest = std::max({extent.x, extent.y, extent.z});
@@ -196,7 +197,10 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   // the others reachable from the padded border are outside, the rest inside, ranked by their
   // city-block distance to a wall or the outside. Only the ranking comes from the voxels: every
   // kept ball is measured against the triangles and its winding number counted.
-  const double h = longest / kInnerBallVoxels;
+  const int along =
+      std::clamp(static_cast<int>(8.0 * std::cbrt(static_cast<double>(triangles.size()))), 8,
+                 kInnerBallVoxels);
+  const double h = longest / along;
   int n[3];
   for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil(extent[a] / h - 1e-9)) + 3;
   const DVec3 origin = box_lo - DVec3(h);
@@ -210,8 +214,9 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
     for (int a = 0; a < 3; ++a) {
       const double mn = std::min({v[0][a], v[1][a], v[2][a]});
       const double mx = std::max({v[0][a], v[1][a], v[2][a]});
-      lo[a] = std::clamp(static_cast<int>(std::floor((mn - origin[a]) / h)), 0, n[a] - 1);
-      hi[a] = std::clamp(static_cast<int>(std::floor((mx - origin[a]) / h)), 0, n[a] - 1);
+      // (Clamped off the border layer, which only rounding could reach.)
+      lo[a] = std::clamp(static_cast<int>(std::floor((mn - origin[a]) / h)), 1, n[a] - 2);
+      hi[a] = std::clamp(static_cast<int>(std::floor((mx - origin[a]) / h)), 1, n[a] - 2);
     }
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
@@ -227,12 +232,11 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
                std::floor((std::min({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h) + 1.0;
     return count;
   };
-  for (const ExactOccluder& o : scene.occluders())
-    if (o.solid == s) visits += box_voxels(o.v);
+  const auto& occluders = scene.occluders();
+  for (const uint32_t t : triangles) visits += box_voxels(occluders[t].v);
   for (const auto& cap : solid.caps) visits += box_voxels(cap.data());
   if (!(visits <= 16.0 * static_cast<double>(voxels))) return {};
-  for (const ExactOccluder& o : scene.occluders())
-    if (o.solid == s) wall(o.v);
+  for (const uint32_t t : triangles) wall(occluders[t].v);
   for (const auto& cap : solid.caps) wall(cap.data());
   // Outside: flood from a border voxel (the padding layer holds no wall).
   std::vector<size_t> queue{0};
@@ -261,34 +265,41 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   // within 8 % of Euclidean) to a wall or the outside, in two raster passes.
   constexpr int32_t kFar = 1 << 29;
   for (int32_t& d : dist) d = d == 0 ? 0 : kFar;
-  const auto relax = [&](int sign) {
-    const int x0 = sign > 0 ? 0 : n[0] - 1, y0 = sign > 0 ? 0 : n[1] - 1,
-              z0 = sign > 0 ? 0 : n[2] - 1;
-    for (int z = z0; z >= 0 && z < n[2]; z += sign)
-      for (int y = y0; y >= 0 && y < n[1]; y += sign)
-        for (int x = x0; x >= 0 && x < n[0]; x += sign) {
-          int32_t& d = dist[index(x, y, z)];
-          if (d == 0) continue;
-          // The 13 neighbours already visited in this pass's order.
-          for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                const int nx = x + sign * dx, ny = y + sign * dy, nz = z + sign * dz;
-                if (nx < 0 || ny < 0 || nz < 0 || nx >= n[0] || ny >= n[1] || nz >= n[2]) continue;
-                const int steps = (dx != 0) + (dy != 0) + (dz != 0);
-                d = std::min(d, dist[index(nx, ny, nz)] + 2 + steps);
-              }
-        }
+  // The 13 neighbours a forward raster pass has already visited, as index offsets and weights
+  // (the backward pass uses their negatives). The border layer is outside, so only the interior
+  // voxels are relaxed and every neighbour exists.
+  std::array<std::ptrdiff_t, 13> offset;
+  std::array<int32_t, 13> weight;
+  int count = 0;
+  for (int dz = -1; dz <= 0; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+        offset[count] = (static_cast<std::ptrdiff_t>(dz) * n[1] + dy) * n[0] + dx;
+        weight[count++] = 2 + (dx != 0) + (dy != 0) + (dz != 0);
+      }
+  const auto relax = [&](size_t v, int sign) {
+    int32_t d = dist[v];
+    if (d == 0) return;
+    for (int k = 0; k < 13; ++k) d = std::min(d, dist[v + sign * offset[k]] + weight[k]);
+    dist[v] = d;
   };
-  relax(1);
-  relax(-1);
-  // Farthest first, ties in voxel order (deterministic).
-  std::vector<size_t> ranked;
+  for (int z = 1; z + 1 < n[2]; ++z)
+    for (int y = 1; y + 1 < n[1]; ++y)
+      for (int x = 1; x + 1 < n[0]; ++x) relax(index(x, y, z), 1);
+  for (int z = n[2] - 2; z >= 1; --z)
+    for (int y = n[1] - 2; y >= 1; --y)
+      for (int x = n[0] - 2; x >= 1; --x) relax(index(x, y, z), -1);
+  // Farthest first, ties in voxel order (deterministic): a counting sort by distance.
+  int32_t far = 0;
+  for (const int32_t d : dist) far = std::max(far, d);
+  std::vector<size_t> start(static_cast<size_t>(far) + 2, 0);
+  for (const int32_t d : dist)
+    if (d > 0) ++start[static_cast<size_t>(far - d) + 1];
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  std::vector<size_t> ranked(start.back());
   for (size_t v = 0; v < voxels; ++v)
-    if (dist[v] > 0) ranked.push_back(v);
-  std::stable_sort(ranked.begin(), ranked.end(),
-                   [&](size_t a, size_t b) { return dist[a] > dist[b]; });
+    if (dist[v] > 0) ranked[start[static_cast<size_t>(far - dist[v])]++] = v;
   const auto centre = [&](size_t v) {
     return origin + h * DVec3(static_cast<double>(v % n[0]) + 0.5,
                               static_cast<double>(v / n[0] % n[1]) + 0.5,

@@ -24,9 +24,12 @@ bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& wi
 /// winding number at its centre, hence over all of it, is non-zero. Centres: the voxels of a grid
 /// over the solid's box that are farthest from its walls (the voxels its triangles touch) and
 /// from the outside, none inside a larger kept ball. Deterministic (not thread-dependent).
-std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s);
+/// `triangles`: the solid's occluders. The grid has 8·∛(triangle count) voxels along the box's
+/// longest side, 8 to kInnerBallVoxels.
+std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
+                                             std::span<const uint32_t> triangles);
 inline constexpr size_t kMaxInnerBalls = 128;
-inline constexpr int kInnerBallVoxels = 48;  // voxels along the box's longest side
+inline constexpr int kInnerBallVoxels = 48;
 
 /// Is the receiver p in umbra by the solids' inner balls: does every segment from p to the light
 /// parallelogram (corner, edge_u, edge_v; box `light_box`, projection `proj` from p) pass through
