@@ -71,12 +71,20 @@ BallCheck check_balls(const Scene& s) {
   const ExactScene es(s);
   BallCheck r;
   for (const ExactSolid& solid : es.solids()) {
+    // The groups partition the balls in order, each bound holding its members.
+    uint32_t next = 0;
+    for (const ExactBallGroup& g : solid.ball_groups) {
+      EXPECT_EQ(g.first, next);
+      EXPECT_GE(g.count, 1u);
+      next = g.first + g.count;
+      for (uint32_t k = g.first; k < next; ++k)
+        EXPECT_LE(glm::length(solid.balls[k].center - g.bound.center) + solid.balls[k].radius,
+                  g.bound.radius);
+    }
+    EXPECT_EQ(next, solid.balls.size());
     const auto tris = solid_triangles(s, solid);
     for (size_t k = 0; k < solid.balls.size(); ++k) {
       const ExactInnerBall& b = solid.balls[k];
-      if (k > 0) {
-        EXPECT_LE(b.radius, solid.balls[k - 1].radius);  // largest first
-      }
       double d = 1e300, w = 0.0;
       for (const auto& t : tris) {
         d = std::min(d, triangle_distance(b.center, t[0], t[1], t[2]));

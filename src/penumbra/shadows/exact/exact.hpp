@@ -66,6 +66,11 @@ struct ExactInnerBall {
   DVec3 center{0.0};
   double radius = 0.0;
 };
+/// Consecutive inner balls [first, first + count) of a solid and a ball holding them all.
+struct ExactBallGroup {
+  ExactInnerBall bound;
+  uint32_t first = 0, count = 0;
+};
 
 /// An opaque, uncut mesh made a closed surface: its triangles plus virtual caps — fans over the
 /// closed walks of its boundary (the directed edges whose copies do not cancel: holes, and edges of
@@ -80,7 +85,8 @@ struct ExactSolid {
   std::vector<std::array<DVec3, 3>> caps;
   std::vector<Bounds3> cap_boxes;           // one per boundary walk
   std::vector<Bounds3> cap_triangle_boxes;  // one per cap triangle
-  std::vector<ExactInnerBall> balls;        // largest first (find_inner_balls)
+  std::vector<ExactInnerBall> balls;        // in groups of neighbours (find_inner_balls)
+  std::vector<ExactBallGroup> ball_groups;
 };
 /// The normals of a BVH subtree whose triangles all belong to one ExactSolid: every unit normal
 /// lies within the angle θ < 90° of `axis`; the triangles lie in the sphere (center, radius).

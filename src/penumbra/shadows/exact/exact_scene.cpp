@@ -471,8 +471,10 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
         for (uint32_t t = 0; t < occluders_.size(); ++t)
           if (occluders_[t].solid != ExactOccluder::kNotSolid)
             triangles[occluders_[t].solid].push_back(t);
-        for (size_t s = 0; s < solids_.size(); ++s)
+        for (size_t s = 0; s < solids_.size(); ++s) {
           solids_[s].balls = find_inner_balls(*this, static_cast<uint32_t>(s), triangles[s]);
+          solids_[s].ball_groups = group_inner_balls(solids_[s].balls, solids_[s].box);
+        }
       });
 }
 

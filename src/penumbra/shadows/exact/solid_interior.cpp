@@ -342,10 +342,47 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
     for (const auto& ball : balls)
       if (ball && out.size() < kMaxInnerBalls && !covered(out, ball->center)) out.push_back(*ball);
   }
-  std::stable_sort(out.begin(), out.end(), [](const ExactInnerBall& a, const ExactInnerBall& b) {
-    return a.radius > b.radius;
-  });
   return out;
+}
+
+std::vector<ExactBallGroup> group_inner_balls(std::vector<ExactInnerBall>& balls,
+                                              const Bounds3& box) {
+  const DVec3 lo(box.lo), extent = glm::max(DVec3(box.hi) - lo, DVec3(1e-300));
+  const auto spread = [](uint32_t x) {  // 10 bits to every third of 30
+    x &= 0x3FFu;
+    x = (x | (x << 16)) & 0x030000FFu;
+    x = (x | (x << 8)) & 0x0300F00Fu;
+    x = (x | (x << 4)) & 0x030C30C3u;
+    return (x | (x << 2)) & 0x09249249u;
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> keyed(balls.size());
+  for (size_t k = 0; k < balls.size(); ++k) {
+    uint32_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double t = std::clamp((balls[k].center[a] - lo[a]) / extent[a], 0.0, 1.0);
+      code |= spread(static_cast<uint32_t>(t * 1023.0)) << a;
+    }
+    keyed[k] = {code, static_cast<uint32_t>(k)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<ExactInnerBall> sorted(balls.size());
+  for (size_t k = 0; k < balls.size(); ++k) sorted[k] = balls[keyed[k].second];
+  balls.swap(sorted);
+  std::vector<ExactBallGroup> groups;
+  for (size_t first = 0; first < balls.size(); first += kBallGroup) {
+    const size_t end = std::min(balls.size(), first + kBallGroup);
+    DVec3 mid(0.0);
+    for (size_t k = first; k < end; ++k) mid += balls[k].center;
+    mid /= static_cast<double>(end - first);
+    double radius = 0.0;
+    for (size_t k = first; k < end; ++k)
+      radius = std::max(radius, glm::length(balls[k].center - mid) + balls[k].radius);
+    // Widened so that rounding never leaves a member poking out.
+    groups.push_back({{mid, radius * (1.0 + 1e-9)},
+                      static_cast<uint32_t>(first),
+                      static_cast<uint32_t>(end - first)});
+  }
+  return groups;
 }
 
 namespace {
@@ -387,18 +424,21 @@ static_assert(kLatticePoints <= 64);
 bool inner_balls_hide_light(const ExactScene& scene, const DVec3& p, const DVec3& corner,
                             const DVec3& edge_u, const DVec3& edge_v, const Bounds3& light_box,
                             const LightProjection& proj, std::span<const uint8_t> solid_met) {
+  // The corners first (the light's cone); the rest of the lattice once a ball is in it.
   std::array<DVec3, kLatticePoints> to_light;
   std::array<double, kLatticePoints> length2;
+  const auto lattice_point = [&](int i, int j) {
+    const int k = j * (kLattice + 1) + i;
+    to_light[k] = corner + (static_cast<double>(i) / kLattice) * edge_u +
+                  (static_cast<double>(j) / kLattice) * edge_v - p;
+    length2[k] = glm::dot(to_light[k], to_light[k]);
+  };
+  constexpr std::array<int, 4> kCorners = {0, kLattice, kLattice * (kLattice + 1),
+                                           kLatticePoints - 1};
+  for (const int k : kCorners) lattice_point(k % (kLattice + 1), k / (kLattice + 1));
   double reach2 = 0.0;
-  for (int j = 0; j <= kLattice; ++j)
-    for (int i = 0; i <= kLattice; ++i) {
-      const int k = j * (kLattice + 1) + i;
-      to_light[k] = corner + (static_cast<double>(i) / kLattice) * edge_u +
-                    (static_cast<double>(j) / kLattice) * edge_v - p;
-      length2[k] = glm::dot(to_light[k], to_light[k]);
-      reach2 = std::max(reach2, length2[k]);
-    }
-  const double reach = std::sqrt(reach2);
+  for (const int k : kCorners) reach2 = std::max(reach2, length2[k]);
+  const double reach = std::sqrt(reach2);  // the longest segment: convexity of the norm
   DVec3 normal = glm::normalize(glm::cross(edge_u, edge_v));
   double depth = glm::dot(corner - p, normal);
   if (depth < 0.0) normal = -normal, depth = -depth;
@@ -406,43 +446,76 @@ bool inner_balls_hide_light(const ExactScene& scene, const DVec3& p, const DVec3
   // point's cosine; the cone is convex, so its extreme directions are corners).
   const DVec3 mid = glm::normalize(corner + 0.5 * (edge_u + edge_v) - p);
   double cos_beta = 1.0;
-  for (const int k : {0, kLattice, kLattice * (kLattice + 1), kLatticePoints - 1})
+  for (const int k : kCorners)
     cos_beta = std::min(cos_beta, glm::dot(mid, to_light[k]) / std::sqrt(length2[k]));
   const double sin_beta = std::sqrt(std::max(0.0, 1.0 - cos_beta * cos_beta));
 
   constexpr uint64_t kAll = (uint64_t{1} << kLatticePoints) - 1u;
   uint64_t seen = 0;  // lattice points inside some ball's cone
+  // The balls in the light's cone (the first 256): axis a = centre − p and |a|² − r².
+  struct Relevant {
+    DVec3 a;
+    double k2;
+  };
+  std::array<Relevant, 256> relevant;
+  size_t relevant_count = 0;
   std::array<uint64_t, 256> masks;
   size_t mask_count = 0;
+  // Does the cone of directions from p into a ball (half-angle α, sin α = r/|a|) meet the light's:
+  // angle(a, mid) < α + β? With |a|·cos α = √(|a|² − r²) and |a|·sin α = r, no division. A
+  // group's bound holds its members, so their cones lie in its cone (p outside it) or p is inside
+  // it (then its members are all tried).
+  const auto meets_light = [&](const DVec3& a, double r) {
+    const double a2 = glm::dot(a, a), r2 = r * r;
+    if (!(a2 > r2)) return true;
+    const double k = std::sqrt(a2 - r2);
+    return glm::dot(a, mid) > k * cos_beta - r * sin_beta - 1e-9 * (k + r);
+  };
   for (size_t s = 0; s < scene.solids().size(); ++s) {
     if (!solid_met.empty() && solid_met[s] == 0) continue;
     const ExactSolid& solid = scene.solids()[s];
     int premises = -1;  // unknown, checked at the solid's first ball in the light's cone
-    for (const ExactInnerBall& ball : solid.balls) {
-      const DVec3 a = ball.center - p;
-      const double height = glm::dot(a, normal), r = ball.radius;
-      if (!(height - r > 1e-6 * depth && height + r < depth)) continue;
-      const double a2 = glm::dot(a, a), r2 = r * r;
-      // A ball subtending under 1e-4 rad is left out: there the radius margin (1e-6) would no
-      // longer dominate the cone test's rounding.
-      if (!(r2 > 1e-8 * a2)) continue;
-      // Its cone (half-angle α, sin α = r/|a|) must meet the light's: angle(a, mid) < α + β.
-      const double len = std::sqrt(a2), sin_alpha = r / len;
-      const double cos_alpha = std::sqrt(std::max(0.0, 1.0 - sin_alpha * sin_alpha));
-      if (!(glm::dot(a, mid) / len > cos_alpha * cos_beta - sin_alpha * sin_beta - 1e-9)) continue;
-      if (premises < 0) premises = ball_premises(solid, light_box, proj, reach) ? 1 : 0;
-      if (premises == 0) break;
-      const double k2 = a2 - r2;  // > 0: p lies outside (height > r)
-      uint64_t mask = 0;
-      for (int k = 0; k < kLatticePoints; ++k) {
-        const double t = glm::dot(to_light[k], a);  // inside: angle to the axis < asin(r/|a|)
-        mask |= static_cast<uint64_t>(t > 0.0 && t * t > length2[k] * k2) << k;
+    for (const ExactBallGroup& group : solid.ball_groups) {
+      if (!meets_light(group.bound.center - p, group.bound.radius)) continue;
+      for (uint32_t b = group.first; b < group.first + group.count; ++b) {
+        const ExactInnerBall& ball = solid.balls[b];
+        const DVec3 a = ball.center - p;
+        const double height = glm::dot(a, normal), r = ball.radius;
+        if (!(height - r > 1e-6 * depth && height + r < depth)) continue;
+        const double a2 = glm::dot(a, a), r2 = r * r;
+        // A ball subtending under 1e-4 rad is left out: there the radius margin (1e-6) would no
+        // longer dominate the cone test's rounding.
+        if (!(r2 > 1e-8 * a2) || !meets_light(a, r)) continue;
+        if (premises < 0) premises = ball_premises(solid, light_box, proj, reach) ? 1 : 0;
+        if (premises == 0) break;
+        if (relevant_count < relevant.size()) relevant[relevant_count++] = {a, a2 - r2};
       }
-      if (mask == 0) continue;
-      if (mask == kAll) return true;
-      seen |= mask;
-      if (mask_count < masks.size()) masks[mask_count++] = mask;
+      if (premises == 0) break;
     }
+  }
+  // A direction inside a ball's cone: angle to its axis a below asin(r/|a|), k2 = |a|² − r² > 0
+  // (p lies outside: height > r).
+  const auto inside = [&](const Relevant& b, int k) {
+    const double t = glm::dot(to_light[k], b.a);
+    return t > 0.0 && t * t > length2[k] * b.k2;
+  };
+  // The corners and the centre first: most receivers in penumbra see one of them.
+  constexpr int kCentre = (kLattice / 2) * (kLattice + 2);
+  lattice_point(kLattice / 2, kLattice / 2);
+  for (const int k : {kCorners[0], kCorners[1], kCorners[2], kCorners[3], kCentre}) {
+    bool hit = false;
+    for (size_t m = 0; m < relevant_count && !hit; ++m) hit = inside(relevant[m], k);
+    if (!hit) return false;
+  }
+  for (int j = 0; j <= kLattice; ++j)
+    for (int i = 0; i <= kLattice; ++i) lattice_point(i, j);
+  for (size_t m = 0; m < relevant_count; ++m) {
+    uint64_t mask = 0;
+    for (int k = 0; k < kLatticePoints; ++k)
+      mask |= static_cast<uint64_t>(inside(relevant[m], k)) << k;
+    if (mask == kAll) return true;
+    seen |= mask;
+    masks[mask_count++] = mask;
   }
   if (seen != kAll) return false;
   // Every cell inside one ball's cone (its four corners in one mask).

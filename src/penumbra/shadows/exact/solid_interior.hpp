@@ -19,7 +19,8 @@ bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, co
 /// unsure (the ray passes within a relative 1e-9 of an edge or runs nearly in a triangle's plane).
 bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& winding);
 
-/// Up to kMaxInnerBalls balls inside solid `s`, largest first: each misses the solid's surface and
+/// Up to kMaxInnerBalls balls inside solid `s`, in groups of kBallGroup neighbours (Morton order
+/// of their centres; see group_inner_balls): each misses the solid's surface and
 /// caps (its radius is the distance from its centre to them, less a relative 1e-6), and the
 /// winding number at its centre, hence over all of it, is non-zero. Centres: the voxels of a grid
 /// over the solid's box that are farthest from its walls (the voxels its triangles touch) and
@@ -30,6 +31,12 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
                                              std::span<const uint32_t> triangles);
 inline constexpr size_t kMaxInnerBalls = 128;
 inline constexpr int kInnerBallVoxels = 48;
+inline constexpr size_t kBallGroup = 8;
+
+/// Orders `balls` by the Morton code of their centres in `box` (ties by the given order) and
+/// returns their groups of kBallGroup consecutive ones, each with a ball holding all of them.
+std::vector<ExactBallGroup> group_inner_balls(std::vector<ExactInnerBall>& balls,
+                                              const Bounds3& box);
 
 /// Is the receiver p in umbra by the solids' inner balls: does every segment from p to the light
 /// parallelogram (corner, edge_u, edge_v; box `light_box`, projection `proj` from p) pass through
