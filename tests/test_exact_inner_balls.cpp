@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -193,6 +194,31 @@ TEST(ExactInnerBalls, BuiltinScenesBallsMissTheSurface) {
     EXPECT_GE(c.balls, 1u) << name;
     EXPECT_GE(c.worst_clearance, 0.9e-6) << name;
   }
+}
+
+TEST(ExactInnerBalls, ManySolidsShareOneBudget) {
+  // 3 000 closed boxes and one sphere, each its own mesh: the sphere (most triangles) is served
+  // first, and the boxes together measure no more than the frame's budget.
+  Scene s = sphere_scene(false, false, false);
+  for (int k = 0; k < 3000; ++k)
+    s.meshes.push_back(
+        make_box(Vec3(-3.0f + 0.1f * (k % 60), 0.3f, -3.0f + 0.1f * (k / 60)), Vec3(0.03f)));
+  const auto start = std::chrono::steady_clock::now();
+  const ExactScene es(s);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  size_t balls = 0, boxes_with_balls = 0;
+  for (const ExactSolid& solid : es.solids()) {
+    balls += solid.balls.size();
+    boxes_with_balls += solid.mesh >= 2 && !solid.balls.empty() ? 1 : 0;
+  }
+  std::printf("%zu solids: %zu balls (%zu boxes with some), set-up %.0f ms\n", es.solids().size(),
+              balls, boxes_with_balls, ms);
+  ASSERT_EQ(es.solids().size(), 3002u);
+  EXPECT_GE(es.solids()[0].balls.size(), 1u);  // the sphere
+  EXPECT_LE(balls, kInnerBallBudget);          // every kept ball was measured
+  EXPECT_LT(boxes_with_balls, 3000u);          // the budget ran out before the last boxes
+  for (size_t k = 2; k < es.solids().size(); ++k) EXPECT_LE(es.solids()[k].balls.size(), 12u);
 }
 
 /// Receivers in rows over the ground (each row with its hint, as the method runs them): those the

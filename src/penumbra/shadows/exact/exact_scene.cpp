@@ -471,8 +471,15 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
         for (uint32_t t = 0; t < occluders_.size(); ++t)
           if (occluders_[t].solid != ExactOccluder::kNotSolid)
             triangles[occluders_[t].solid].push_back(t);
-        for (size_t s = 0; s < solids_.size(); ++s) {
-          solids_[s].balls = find_inner_balls(*this, static_cast<uint32_t>(s), triangles[s]);
+        // Largest first (ties by index): many small solids cannot spend a large one's budget.
+        std::vector<uint32_t> by_size(solids_.size());
+        for (uint32_t s = 0; s < by_size.size(); ++s) by_size[s] = s;
+        std::stable_sort(by_size.begin(), by_size.end(), [&](uint32_t a, uint32_t b) {
+          return triangles[a].size() > triangles[b].size();
+        });
+        size_t budget = kInnerBallBudget;
+        for (const uint32_t s : by_size) {
+          solids_[s].balls = find_inner_balls(*this, s, triangles[s], budget);
           solids_[s].ball_groups = group_inner_balls(solids_[s].balls, solids_[s].box);
         }
       });

@@ -185,7 +185,8 @@ bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& wi
 }
 
 std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
-                                             std::span<const uint32_t> triangles) {
+                                             std::span<const uint32_t> triangles,
+                                             size_t& measure_budget) {
   const ExactSolid& solid = scene.solids()[s];
   const DVec3 box_lo(solid.box.lo), extent = DVec3(solid.box.hi) - box_lo;
   const double longest = std::max({extent.x, extent.y, extent.z});
@@ -326,12 +327,16 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   std::vector<ExactInnerBall> out;
   constexpr size_t kBatch = 16;
   size_t next = 0, measured = 0;
-  while (out.size() < kMaxInnerBalls && measured < 4 * kMaxInnerBalls) {
+  // As many balls as triangles at most (a box needs no 128), 8 to kMaxInnerBalls.
+  const size_t most = std::clamp<size_t>(triangles.size(), 8, kMaxInnerBalls);
+  const size_t allowed = std::min(4 * most, measure_budget);
+  while (out.size() < most && measured < allowed) {
     std::vector<DVec3> batch;
     for (; next < ranked.size() && dist[ranked[next]] >= 3 && batch.size() < kBatch; ++next)
       if (!covered(out, centre(ranked[next]))) batch.push_back(centre(ranked[next]));
     if (batch.empty()) break;
     measured += batch.size();
+    measure_budget -= std::min(measure_budget, batch.size());
     std::vector<std::optional<ExactInnerBall>> balls(batch.size());
     parallel_chunks(batch.size(), 1, [&](size_t b0, size_t b1) {
       for (size_t k = b0; k < b1; ++k) balls[k] = measure(batch[k]);
@@ -340,7 +345,7 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
       return (a ? a->radius : -1.0) > (b ? b->radius : -1.0);
     });
     for (const auto& ball : balls)
-      if (ball && out.size() < kMaxInnerBalls && !covered(out, ball->center)) out.push_back(*ball);
+      if (ball && out.size() < most && !covered(out, ball->center)) out.push_back(*ball);
   }
   return out;
 }

@@ -19,16 +19,21 @@ bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, co
 /// unsure (the ray passes within a relative 1e-9 of an edge or runs nearly in a triangle's plane).
 bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& winding);
 
-/// Up to kMaxInnerBalls balls inside solid `s`, in groups of kBallGroup neighbours (Morton order
-/// of their centres; see group_inner_balls): each misses the solid's surface and
-/// caps (its radius is the distance from its centre to them, less a relative 1e-6), and the
-/// winding number at its centre, hence over all of it, is non-zero. Centres: the voxels of a grid
-/// over the solid's box that are farthest from its walls (the voxels its triangles touch) and
-/// from the outside, none inside a larger kept ball. Deterministic (not thread-dependent).
-/// `triangles`: the solid's occluders. The grid has 8·∛(triangle count) voxels along the box's
-/// longest side, 8 to kInnerBallVoxels.
+/// Up to kMaxInnerBalls balls (and no more than its triangles, at least 8) inside solid `s`, in
+/// groups of kBallGroup neighbours (Morton order of their centres; see group_inner_balls): each
+/// misses the solid's surface and caps (its radius is the distance from its centre to them, less a
+/// relative 1e-6), and the winding number at its centre, hence over all of it, is non-zero.
+/// Centres: the voxels of a grid over the solid's box that are farthest from its walls (the voxels
+/// its triangles touch) and from the outside, none inside a larger kept ball. Deterministic (not
+/// thread-dependent). `triangles`: the solid's occluders. The grid has 8·∛(triangle count) voxels
+/// along the box's longest side, 8 to kInnerBallVoxels. At most four candidates per ball allowed
+/// are measured (a nearest-point query and a winding ray each), and no more than `measure_budget`,
+/// which is decreased by the count (a frame's budget, shared by its solids).
 std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
-                                             std::span<const uint32_t> triangles);
+                                             std::span<const uint32_t> triangles,
+                                             size_t& measure_budget);
+/// The measurements a frame spends on inner balls, its solids taken largest first.
+inline constexpr size_t kInnerBallBudget = 4096;
 inline constexpr size_t kMaxInnerBalls = 128;
 inline constexpr int kInnerBallVoxels = 48;
 inline constexpr size_t kBallGroup = 8;
