@@ -15,39 +15,10 @@
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
+#include "support/solid_scenes.hpp"
 
 namespace penumbra {
 namespace {
-
-Scene sphere_scene(bool flipped, bool open, bool doubled) {
-  Scene s;
-  s.name = "culling-test";
-  s.materials.push_back(Material{});
-  Light l;
-  l.shape = LightShape::rect;
-  l.center = Vec3(0.1f, 2.5f, 0.0f);
-  l.edge_u = Vec3(1.2f, 0.0f, 0.0f);
-  l.edge_v = Vec3(0.0f, 0.0f, 0.9f);
-  s.lights.push_back(l);
-  Mesh sphere = make_sphere(Vec3(0.0f, 1.0f, 0.0f), 0.5f, 12, 16);
-  if (doubled) {
-    // One mesh, two overlapping spheres: closed and consistently oriented but self-intersecting
-    // (winding number 2 where they overlap).
-    const Mesh other = make_sphere(Vec3(0.3f, 1.1f, 0.1f), 0.45f, 10, 14);
-    const uint32_t base = static_cast<uint32_t>(sphere.positions.size());
-    sphere.positions.insert(sphere.positions.end(), other.positions.begin(), other.positions.end());
-    for (Triangle t : other.triangles) {
-      for (uint32_t& v : t.v) v += base;
-      sphere.triangles.push_back(t);
-    }
-  }
-  if (flipped)
-    for (Triangle& t : sphere.triangles) std::swap(t.v[1], t.v[2]);
-  if (open) sphere.triangles.erase(sphere.triangles.begin() + 40);
-  s.meshes.push_back(sphere);
-  s.meshes.push_back(make_quad(Vec3(0.0f), Vec3(4.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, -4.0f)));
-  return s;
-}
 
 /// Receivers on the ground, on the sphere (offset outward), inside it, inside its box but outside
 /// it, and in the overlap of the doubled spheres.
@@ -87,7 +58,7 @@ Agreement compare_culling(const Scene& s) {
 }
 
 TEST(ExactCulling, ClosedSphereCulledEqualsUnculled) {
-  const Agreement a = compare_culling(sphere_scene(false, false, false));
+  const Agreement a = compare_culling(test::sphere_over_ground({}));
   std::printf("closed: max |culled - unculled| %.3g, %llu triangles culled\n", a.max_diff,
               static_cast<unsigned long long>(a.culled));
   EXPECT_LE(a.max_diff, 1e-9);  // measured 0: the same union, rounded to the same integers
@@ -97,13 +68,13 @@ TEST(ExactCulling, ClosedSphereCulledEqualsUnculled) {
 
 TEST(ExactCulling, FlippedSphereCulledEqualsUnculled) {
   // Inward-facing triangles: the kept set is the far side, still exact.
-  const Agreement a = compare_culling(sphere_scene(true, false, false));
+  const Agreement a = compare_culling(test::sphere_over_ground({.flipped = true}));
   EXPECT_LE(a.max_diff, 1e-9);
   EXPECT_GT(a.culled, 1000u);
 }
 
 TEST(ExactCulling, SelfIntersectingClosedMeshCulledEqualsUnculled) {
-  const Agreement a = compare_culling(sphere_scene(false, false, true));
+  const Agreement a = compare_culling(test::sphere_over_ground({.doubled = true}));
   EXPECT_LE(a.max_diff, 1e-9);
   EXPECT_GT(a.culled, 1000u);
 }
@@ -111,7 +82,7 @@ TEST(ExactCulling, SelfIntersectingClosedMeshCulledEqualsUnculled) {
 TEST(ExactCulling, OpenMeshClosedByCapsCulledEqualsUnculled) {
   // A sphere with a hole: its cap is one triangle; pixels whose pyramid meets it keep every
   // triangle.
-  const Scene s = sphere_scene(false, true, false);
+  const Scene s = test::sphere_over_ground({.open = true});
   const ExactScene es(s);
   ASSERT_EQ(es.solids().size(), 2u);  // the sphere and the ground quad
   EXPECT_EQ(es.solids()[0].caps.size(), 1u);
@@ -122,15 +93,13 @@ TEST(ExactCulling, OpenMeshClosedByCapsCulledEqualsUnculled) {
 
 TEST(ExactCulling, InconsistentlyOrientedMeshCulledEqualsUnculled) {
   // Every third triangle flipped: the caps close the chain over the inconsistent edges.
-  Scene s = sphere_scene(false, false, false);
-  for (size_t t = 0; t < s.meshes[0].triangles.size(); t += 3)
-    std::swap(s.meshes[0].triangles[t].v[1], s.meshes[0].triangles[t].v[2]);
+  const Scene s = test::sphere_over_ground({.inconsistent = true});
   const Agreement a = compare_culling(s);
   EXPECT_LE(a.max_diff, 1e-9);
 }
 
 TEST(ExactCulling, LightOverlappingTheSolidsBoxDisablesIt) {
-  Scene s = sphere_scene(false, false, false);
+  Scene s = test::sphere_over_ground({});
   s.lights[0].center = Vec3(0.0f, 1.4f, 0.0f);  // inside the sphere's box (and the sphere)
   const ExactScene es(s);
   const ExactLight light(s, s.lights[0]);

@@ -20,6 +20,7 @@
 #include "penumbra/shadows/exact/exact.hpp"
 #include "penumbra/shadows/exact/solid_interior.hpp"
 #include "support/frame_helpers.hpp"
+#include "support/solid_scenes.hpp"
 
 namespace penumbra {
 namespace {
@@ -102,36 +103,8 @@ BallCheck check_balls(const Scene& s) {
   return r;
 }
 
-Scene sphere_scene(bool flipped, bool open, bool doubled) {
-  Scene s;
-  s.name = "inner-balls-test";
-  s.materials.push_back(Material{});
-  Light l;
-  l.shape = LightShape::rect;
-  l.center = Vec3(0.1f, 2.5f, 0.0f);
-  l.edge_u = Vec3(1.2f, 0.0f, 0.0f);
-  l.edge_v = Vec3(0.0f, 0.0f, 0.9f);
-  s.lights.push_back(l);
-  Mesh sphere = make_sphere(Vec3(0.0f, 1.0f, 0.0f), 0.5f, 12, 16);
-  if (doubled) {
-    const Mesh other = make_sphere(Vec3(0.3f, 1.1f, 0.1f), 0.45f, 10, 14);
-    const uint32_t base = static_cast<uint32_t>(sphere.positions.size());
-    sphere.positions.insert(sphere.positions.end(), other.positions.begin(), other.positions.end());
-    for (Triangle t : other.triangles) {
-      for (uint32_t& v : t.v) v += base;
-      sphere.triangles.push_back(t);
-    }
-  }
-  if (flipped)
-    for (Triangle& t : sphere.triangles) std::swap(t.v[1], t.v[2]);
-  if (open) sphere.triangles.erase(sphere.triangles.begin() + 40);
-  s.meshes.push_back(sphere);
-  s.meshes.push_back(make_quad(Vec3(0.0f), Vec3(4.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, -4.0f)));
-  return s;
-}
-
 TEST(ExactInnerBalls, ClosedSphereHoldsItsInscribedBall) {
-  const Scene s = sphere_scene(false, false, false);
+  const Scene s = test::sphere_over_ground({});
   const BallCheck c = check_balls(s);
   // The polyhedron's inscribed radius: the nearest face plane from the centre.
   const Mesh& m = s.meshes[0];
@@ -151,9 +124,6 @@ TEST(ExactInnerBalls, ClosedSphereHoldsItsInscribedBall) {
 }
 
 TEST(ExactInnerBalls, FlippedSelfIntersectingOpenAndInconsistentMeshes) {
-  Scene inconsistent = sphere_scene(false, false, false);
-  for (size_t t = 0; t < inconsistent.meshes[0].triangles.size(); t += 3)
-    std::swap(inconsistent.meshes[0].triangles[t].v[1], inconsistent.meshes[0].triangles[t].v[2]);
   // Smallest largest ball expected. The doubled spheres' surfaces cross inside each other; the
   // inconsistent sphere's caps (fans over its non-cancelling edges) cut through its inside, so it
   // may have none: every ball found must still pass the brute force.
@@ -161,10 +131,10 @@ TEST(ExactInnerBalls, FlippedSelfIntersectingOpenAndInconsistentMeshes) {
     const char* name;
     Scene scene;
     double largest;
-  } cases[] = {{"flipped", sphere_scene(true, false, false), 0.47},
-               {"self-intersecting", sphere_scene(false, false, true), 0.28},
-               {"open (capped)", sphere_scene(false, true, false), 0.47},
-               {"inconsistent", inconsistent, 0.0}};
+  } cases[] = {{"flipped", test::sphere_over_ground({.flipped = true}), 0.47},
+               {"self-intersecting", test::sphere_over_ground({.doubled = true}), 0.28},
+               {"open (capped)", test::sphere_over_ground({.open = true}), 0.47},
+               {"inconsistent", test::sphere_over_ground({.inconsistent = true}), 0.0}};
   for (const auto& k : cases) {
     const BallCheck c = check_balls(k.scene);
     std::printf("%s: %zu balls, largest %.4f\n", k.name, c.balls, c.largest);
@@ -177,7 +147,7 @@ TEST(ExactInnerBalls, FlippedSelfIntersectingOpenAndInconsistentMeshes) {
 
 TEST(ExactInnerBalls, OpenSurfacesAndFlatMeshesHaveNone) {
   // The ground quad is a solid (closed by its caps) with no volume: no ball.
-  const Scene s = sphere_scene(false, false, false);
+  const Scene s = test::sphere_over_ground({});
   const ExactScene es(s);
   ASSERT_EQ(es.solids().size(), 2u);
   EXPECT_TRUE(es.solids()[1].balls.empty());
@@ -199,7 +169,7 @@ TEST(ExactInnerBalls, BuiltinScenesBallsMissTheSurface) {
 TEST(ExactInnerBalls, ManySolidsShareOneBudget) {
   // 3 000 closed boxes and one sphere, each its own mesh: the sphere (most triangles) is served
   // first, and the boxes together measure no more than the frame's budget.
-  Scene s = sphere_scene(false, false, false);
+  Scene s = test::sphere_over_ground({});
   for (int k = 0; k < 3000; ++k)
     s.meshes.push_back(
         make_box(Vec3(-3.0f + 0.1f * (k % 60), 0.3f, -3.0f + 0.1f * (k / 60)), Vec3(0.03f)));
@@ -275,19 +245,16 @@ std::vector<std::vector<Vec3>> ground_rows(float half, int n) {
 }
 
 TEST(ExactInnerBalls, UmbraByBallsIsBlockedEverywhere) {
-  Scene inconsistent = sphere_scene(false, false, false);
-  for (size_t t = 0; t < inconsistent.meshes[0].triangles.size(); t += 3)
-    std::swap(inconsistent.meshes[0].triangles[t].v[1], inconsistent.meshes[0].triangles[t].v[2]);
   // The smallest share of the umbra receivers the balls are expected to decide.
   const struct {
     const char* name;
     Scene scene;
     double share;
-  } cases[] = {{"closed", sphere_scene(false, false, false), 0.75},
-               {"flipped", sphere_scene(true, false, false), 0.75},
-               {"self-intersecting", sphere_scene(false, false, true), 0.35},
-               {"open (capped)", sphere_scene(false, true, false), 0.6},
-               {"inconsistent", inconsistent, 0.0}};
+  } cases[] = {{"closed", test::sphere_over_ground({}), 0.75},
+               {"flipped", test::sphere_over_ground({.flipped = true}), 0.75},
+               {"self-intersecting", test::sphere_over_ground({.doubled = true}), 0.35},
+               {"open (capped)", test::sphere_over_ground({.open = true}), 0.6},
+               {"inconsistent", test::sphere_over_ground({.inconsistent = true}), 0.0}};
   for (const auto& k : cases) {
     const UmbraCheck c = check_umbra(k.scene, ground_rows(0.6f, 16));
     std::printf("%s: %zu of %zu umbra receivers by balls, max |diff| %.3g\n", k.name, c.by_ball,
@@ -301,13 +268,13 @@ TEST(ExactInnerBalls, UmbraByBallsIsBlockedEverywhere) {
 
 TEST(ExactInnerBalls, PremisesFailingKeepsTheProjection) {
   // The light inside the sphere's box: w = 0 on the light is not established, no ball is used.
-  Scene s = sphere_scene(false, false, false);
+  Scene s = test::sphere_over_ground({});
   s.lights[0].center = Vec3(0.0f, 1.4f, 0.0f);
   const UmbraCheck inside = check_umbra(s, ground_rows(0.6f, 8));
   EXPECT_EQ(inside.by_ball, 0u);
   // A light far larger than the sphere: no ball hides it from the ground (the sphere's umbra is
   // gone), and every answer agrees with the full projection.
-  Scene wide = sphere_scene(false, false, false);
+  Scene wide = test::sphere_over_ground({});
   wide.lights[0].edge_u = Vec3(8.0f, 0.0f, 0.0f);
   wide.lights[0].edge_v = Vec3(0.0f, 0.0f, 8.0f);
   const UmbraCheck w = check_umbra(wide, ground_rows(0.6f, 8));
@@ -319,7 +286,7 @@ TEST(ExactInnerBalls, EveryLightShape) {
   // Disk and sphere lights (round outlines inside the parallelogram the balls are tested
   // against): the same agreement with the full projection.
   for (const LightShape shape : {LightShape::disk, LightShape::sphere}) {
-    Scene s = sphere_scene(false, false, false);
+    Scene s = test::sphere_over_ground({});
     s.lights[0].shape = shape;
     s.lights[0].radius = 0.4f;
     const UmbraCheck c = check_umbra(s, ground_rows(0.6f, 12));
