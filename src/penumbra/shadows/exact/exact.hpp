@@ -85,7 +85,7 @@ struct ExactSolid {
   std::vector<std::array<DVec3, 3>> caps;
   std::vector<Bounds3> cap_boxes;           // one per boundary walk
   std::vector<Bounds3> cap_triangle_boxes;  // one per cap triangle
-  std::vector<ExactInnerBall> balls;        // in groups of neighbours (find_inner_balls)
+  std::vector<ExactInnerBall> balls;        // in groups of neighbours (group_inner_balls)
   std::vector<ExactBallGroup> ball_groups;
 };
 /// The normals of a BVH subtree whose triangles all belong to one ExactSolid: every unit normal

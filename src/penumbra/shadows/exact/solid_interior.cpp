@@ -70,30 +70,22 @@ double box_distance2(const DVec3& p, const Vec3& lo, const Vec3& hi) {
   return d2;
 }
 
-/// The point of solid s's surface or caps nearest to p, looked for within `limit` of p; its
-/// squared distance in `dist2` (limit² when nothing is that close). Nearer child first, so the
-/// bound tightens early.
-DVec3 nearest_on_solid(const ExactScene& scene, uint32_t s, const DVec3& p, double limit,
-                       double& dist2, DVec3* normal = nullptr) {
+/// The squared distance from p to solid s's surface or caps, looked for within `limit` of p
+/// (limit² when nothing is that close). Nearer child first, so the bound tightens early.
+double nearest_distance2(const ExactScene& scene, uint32_t s, const DVec3& p, double limit) {
   const auto& occluders = scene.occluders();
   const ExactSolid& solid = scene.solids()[s];
   double best2 = limit * limit;
-  DVec3 best = p;
-  const DVec3* best_tri = nullptr;
   const auto consider = [&](const DVec3* v) {
     const DVec3 q = closest_on_triangle(p, v[0], v[1], v[2]);
-    const double d2 = glm::dot(q - p, q - p);
-    if (d2 < best2) best2 = d2, best = q, best_tri = v;
+    best2 = std::min(best2, glm::dot(q - p, q - p));
   };
   for (size_t k = 0; k < solid.caps.size(); ++k)
     if (box_distance2(p, solid.cap_triangle_boxes[k].lo, solid.cap_triangle_boxes[k].hi) < best2)
       consider(solid.caps[k].data());
   const auto& nodes = scene.bvh().nodes();
   const auto& prims = scene.bvh().primitives();
-  if (nodes.empty()) {
-    dist2 = best2;
-    return best;
-  }
+  if (nodes.empty()) return best2;
   struct Entry {
     uint32_t node;
     double d2;
@@ -123,12 +115,7 @@ DVec3 nearest_on_solid(const ExactScene& scene, uint32_t s, const DVec3& p, doub
       stack[top++] = {r, dr};
     }
   }
-  dist2 = best2;
-  if (normal != nullptr)
-    *normal = best_tri == nullptr
-                  ? DVec3(0.0)
-                  : glm::cross(best_tri[1] - best_tri[0], best_tri[2] - best_tri[0]);
-  return best;
+  return best2;
 }
 
 }  // namespace
@@ -196,7 +183,7 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
 
   // Candidates from a voxel grid: voxels touched by a triangle's box (surface and caps) are walls,
   // the others reachable from the padded border are outside, the rest inside, ranked by their
-  // city-block distance to a wall or the outside. Only the ranking comes from the voxels: every
+  // chamfer distance to a wall or the outside. Only the ranking comes from the voxels: every
   // kept ball is measured against the triangles and its winding number counted.
   const int along =
       std::clamp(static_cast<int>(8.0 * std::cbrt(static_cast<double>(triangles.size()))), 8,
@@ -209,7 +196,7 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   const auto index = [&](int x, int y, int z) {
     return (static_cast<size_t>(z) * n[1] + y) * n[0] + x;
   };
-  std::vector<int32_t> dist(voxels, -1);  // −1: not yet reached; walls and outside: 0
+  std::vector<int32_t> dist(voxels, -1);  // −1: inside (until the flood); walls and outside: 0
   const auto wall = [&](const DVec3* v) {
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
@@ -251,17 +238,13 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
       if (c[a] + 1 < n[a]) fn(v + step[a]);
     }
   };
-  std::vector<char> outside(voxels, 0);
-  outside[0] = 1;
   for (size_t head = 0; head < queue.size(); ++head)
     neighbours(queue[head], [&](size_t w) {
-      if (dist[w] == -1 && !outside[w]) {
-        outside[w] = 1;
+      if (dist[w] == -1) {
+        dist[w] = 0;
         queue.push_back(w);
       }
     });
-  for (size_t v = 0; v < voxels; ++v)
-    if (outside[v]) dist[v] = 0;
   // Inside voxels by their chamfer distance (weights 3, 4, 5 for face, edge and corner steps:
   // within 8 % of Euclidean) to a wall or the outside, in two raster passes.
   constexpr int32_t kFar = 1 << 29;
@@ -315,8 +298,7 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   // A candidate's ball: its distance to the surface (less a relative 1e-6), kept if the winding
   // number there is non-zero.
   const auto measure = [&](const DVec3& c) -> std::optional<ExactInnerBall> {
-    double d2 = 0.0;
-    nearest_on_solid(scene, s, c, limit, d2);
+    const double d2 = nearest_distance2(scene, s, c, limit);
     int w = 0;
     if (!(d2 > 0.0) || !winding_number(scene, s, c, w) || w == 0) return std::nullopt;
     return ExactInnerBall{c, std::sqrt(d2) * (1.0 - 1e-6)};
