@@ -96,6 +96,7 @@ TEST(Gears, OptionsDoNotChangeTheAnswer) {
                                                        {{"pixel_cull", "false"}},
                                                        {{"group", "0"}},
                                                        {{"hidden_cull", "false"}},
+                                                       {{"deepest_first", "false"}},
                                                        {{"box_cull", "false"}},
                                                        {{"solid_cull", "false"}},
                                                        {{"long_chunk", "1"}}}) {
@@ -410,11 +411,11 @@ void expect_same_masks(const MethodResult& a, const MethodResult& b, const std::
 Scene glass_spheres(bool semi_opaque);  // below, with the semi-opaque tests
 
 /// The sample groups of a work item (option `group`), the longer items of long cell lists
-/// (`long_chunk`) and the hidden cull (`hidden_cull`) change which candidates each pixel's cull
-/// scans, sets up and rasterizes, never its masks: a rectangle, a disk and a sphere light (the
-/// last is not flat: one group per item), the default scene, semi-opaque spheres (V equal too),
-/// and a one-cell grid where every cell list is long and every cell spans the whole depth range
-/// (sphere tops and the ground behind them).
+/// (`long_chunk`), the hidden cull (`hidden_cull`) and the pixels' order (`deepest_first`) change
+/// which candidates each pixel's cull scans, sets up and rasterizes, never its masks: a rectangle,
+/// a disk and a sphere light (the last is not flat: one group per item), the default scene,
+/// semi-opaque spheres (V equal too), and a one-cell grid where every cell list is long and every
+/// cell spans the whole depth range (sphere tops and the ground behind them).
 TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
   std::vector<std::pair<std::string, TestFrame>> frames;
   frames.emplace_back("spheres", make_test_frame("spheres", 32, 32, grid_samples(8)));
@@ -431,6 +432,7 @@ TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
       for (const auto& opts : std::vector<std::map<std::string, std::string>>{
                {{"grid", grid}},  // defaults: groups of 8, long items of 4 × 32 samples
                {{"grid", grid}, {"hidden_cull", "false"}},
+               {{"grid", grid}, {"deepest_first", "false"}},
                {{"grid", grid}, {"group", "3"}, {"long_chunk", "64"}, {"chunk", "5"}}}) {
         const MethodResult on = t.run("gears", opts, true);
         std::string what = name + " grid " + grid;
@@ -762,8 +764,33 @@ TEST(Gears, PerPixelCullScansOnlyTheDepthPrefix) {
   const double scanned = v.counters.at("pixel_cull_reads");
   std::printf("item candidates %.0f, scanned per pixel %.0f (%.3f), set up %.0f\n", item, scanned,
               scanned / item, v.counters.at("assignments_total"));
-  EXPECT_LE(scanned, 0.95 * item);  // measured 0.911
+  EXPECT_LE(scanned, 0.87 * item);  // measured 0.816 (the prefix, less the umbrae's early exits)
   EXPECT_GE(scanned, v.counters.at("assignments_total"));
+}
+
+/// Deepest candidates first (`deepest_first`): a pixel's nearest layer fills an umbra early and
+/// hides what lies behind it, so the per-pixel culls scan and set up less, with the same masks
+/// (64², k 16: the closed spheres, and the default scene with its alpha-tested fence).
+TEST(Gears, DeepestFirstScansAndSetsUpLess) {
+  struct Case {
+    const char* scene;
+    double scan_bound, setup_bound;  // deepest first / list order
+  };
+  for (const Case& c : {Case{"spheres", 0.98, 0.78},     // measured 0.962, 0.737
+                        Case{"default", 0.97, 1.01}}) {  // measured 0.940, 1.001
+    const auto t = make_test_frame(c.scene, 64, 64, grid_samples(16));
+    const MethodResult first = t.run("gears", {}, true);
+    const MethodResult list = t.run("gears", {{"deepest_first", "false"}}, true);
+    expect_same_masks(list, first, c.scene);
+    const auto& on = first.per_light[0].counters;
+    const auto& off = list.per_light[0].counters;
+    const double scan = on.at("pixel_cull_reads") / off.at("pixel_cull_reads");
+    const double setup = on.at("assignments_total") / off.at("assignments_total");
+    std::printf("%s: deepest first / list order: scanned %.3f, set up %.3f\n", c.scene, scan,
+                setup);
+    EXPECT_LT(scan, c.scan_bound) << c.scene;
+    EXPECT_LT(setup, c.setup_bound) << c.scene;
+  }
 }
 
 /// The mesh-box cull leaves most of the ground out of the grid on `spheres` (64², k 16) and sets
@@ -783,7 +810,7 @@ TEST(Gears, BoxCullLeavesOutPixelsNothingCanShadow) {
 }
 
 /// The groups' own cull halves what the per-pixel culls scan on a frame (spheres 64², k 16, grid
-/// 16 so that cells hold dozens of samples; measured 0.47), and sets up the same candidates up to
+/// 16 so that cells hold dozens of samples; measured 0.29), and sets up the same candidates up to
 /// the early exits' chunking.
 TEST(Gears, SampleGroupsCutThePerPixelScan) {
   const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
@@ -793,11 +820,12 @@ TEST(Gears, SampleGroupsCutThePerPixelScan) {
   const double ratio = on.counters.at("pixel_cull_reads") / off.counters.at("pixel_cull_reads");
   std::printf("per-pixel scan with groups / without: %.3f; group candidates %.0f of %.0f\n", ratio,
               on.counters.at("assignments_group"), on.counters.at("assignments_item"));
-  EXPECT_LT(ratio, 0.55);
+  EXPECT_LT(ratio, 0.35);  // measured 0.290
   EXPECT_LT(on.counters.at("assignments_group"), on.counters.at("assignments_item"));
   EXPECT_EQ(off.counters.at("assignments_group"), off.counters.at("assignments_item"));
+  // Only the early exits move (the chunks end at each batch's own depth prefix): 1.3e-3 measured.
   EXPECT_NEAR(on.counters.at("assignments_in_volume"), off.counters.at("assignments_in_volume"),
-              1e-3 * off.counters.at("assignments_in_volume"));
+              2e-3 * off.counters.at("assignments_in_volume"));
 }
 
 }  // namespace

@@ -44,6 +44,7 @@ struct Options {
   int group = 8;
   int long_chunk = 4;
   bool hidden_cull = true;
+  bool deepest_first = true;
   bool box_cull = true;
   bool solid_cull = true;
 };
@@ -116,12 +117,14 @@ class Gears final : public ShadowMethod {
 
     // Occluders in light space.
     TriangleSoup soup;
-    bool any_translucent = false;
+    bool any_translucent = false;  // alpha-textured or semi-opaque
+    bool any_semi_opaque = false;
     for (size_t m = 0; m < ctx.scene.meshes.size(); ++m) {
       const Mesh& mesh = ctx.scene.meshes[m];
       if (!mesh.casts_shadows) continue;
       const bool opaque = ctx.scene.material_of(mesh).is_opaque();
       any_translucent |= !opaque;
+      any_semi_opaque |= ctx.scene.material_of(mesh).transmittance > 0.0f;
       for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         soup.mesh.push_back(static_cast<uint32_t>(m));
         soup.prim.push_back(static_cast<uint32_t>(t));
@@ -244,6 +247,12 @@ class Gears final : public ShadowMethod {
     // keep V = 1 (no bit set): no frame-size array to clear (32 MB at 1024², k 16) nor to read.
     const bool shade_in_place =
         !ctx.want_masks && simple_weights && !any_translucent && emit_count > 0;
+    // A pixel takes its candidates' chunks deepest first, nearest to itself: an umbra's front
+    // layer then fills its mask early, and what lies behind that layer is hidden (same bits: the
+    // mask is the union of the covered samples, alpha-tested ones included). Semi-opaque occluders
+    // keep the list's order, so that their transmittance products are formed in one order
+    // whatever the options.
+    const bool deepest_first = opt_.deepest_first && !any_semi_opaque;
     SampleMasks masks;
     if (!shade_in_place) masks = SampleMasks(g.width, g.height, n);
 
@@ -629,12 +638,19 @@ class Gears final : public ShadowMethod {
                     // The item batch is in depth order: this pixel's depth cut is a prefix of it
                     // (samples nearer than the item's deepest skip the tail).
                     const int scan_end = from->depth_prefix(own.zmax);
-                    l_scanned += scan_end;
-                    for (int b = 0; b < scan_end && !done; b += kChunk) {
+                    // Its chunks deepest first (deepest_first), each scanned to the end unless
+                    // the mask fills.
+                    const int chunks = (scan_end + kChunk - 1) / kChunk;
+                    for (int step = 0; step < chunks && !done; ++step) {
+                      const int c0 = deepest_first ? std::max(0, scan_end - (step + 1) * kChunk)
+                                                   : step * kChunk;
+                      const int c1 = deepest_first ? scan_end - step * kChunk
+                                                   : std::min(scan_end, c0 + kChunk);
                       // With the mask so far: shadows inside blocked samples are not set up.
                       const bool hide = use_rows && any_blocked && opt_.hidden_cull;
-                      sc.pixel_batch.keep(*from, b, std::min(b + kChunk, scan_end), own, p,
-                                          box_cull, hide ? sc.rows : nullptr, outside);
+                      l_scanned += c1 - c0;
+                      sc.pixel_batch.keep(*from, c0, c1, own, p, box_cull, hide ? sc.rows : nullptr,
+                                          outside);
                       done = rasterize(sc.pixel_batch);
                     }
                   } else {
@@ -729,7 +745,8 @@ class Gears final : public ShadowMethod {
     c["assignments_item"] = static_cast<double>(item_kept.load());  // after the per-item cull
     // After the per-group cull (× the group's samples); equals assignments_item without groups.
     c["assignments_group"] = static_cast<double>(group_kept.load());
-    // Item candidates the per-pixel cull scanned: each pixel's depth-cut prefix of its item's.
+    // Item candidates the per-pixel cull scanned: of each pixel's depth-cut prefix of its item's,
+    // the chunks it read before its mask filled.
     c["pixel_cull_reads"] = static_cast<double>(pixel_scanned.load());
     c["assignments_total"] =
         static_cast<double>(tested.load());  // set up: after the per-pixel cull
@@ -830,6 +847,14 @@ void register_gears(MethodRegistry& registry) {
        {},
        0,
        1},
+      {"deepest_first",
+       OptionType::boolean,
+       "true",
+       "each pixel takes its candidates nearest to itself first, so that umbrae fill early and "
+       "what lies behind them is hidden (same masks; semi-opaque occluders keep the list's order)",
+       {},
+       0,
+       1},
       {"box_cull",
        OptionType::boolean,
        "true",
@@ -865,6 +890,7 @@ void register_gears(MethodRegistry& registry) {
     opt.group = o.get_int("group");
     opt.long_chunk = o.get_int("long_chunk");
     opt.hidden_cull = o.get_bool("hidden_cull");
+    opt.deepest_first = o.get_bool("deepest_first");
     opt.box_cull = o.get_bool("box_cull");
     opt.solid_cull = o.get_bool("solid_cull");
     return std::make_unique<Gears>(opt);
