@@ -776,8 +776,9 @@ TEST(Gears, DeepestFirstScansAndSetsUpLess) {
     const char* scene;
     double scan_bound, setup_bound;  // deepest first / list order
   };
-  for (const Case& c : {Case{"spheres", 0.98, 0.78},     // measured 0.962, 0.737
-                        Case{"default", 0.97, 1.01}}) {  // measured 0.940, 1.001
+  // Measured 0.962, 0.737 and 0.940, 1.001: the fence is one layer, so there only the umbrae's
+  // early exits move.
+  for (const Case& c : {Case{"spheres", 0.98, 0.78}, Case{"default", 0.97, 1.01}}) {
     const auto t = make_test_frame(c.scene, 64, 64, grid_samples(16));
     const MethodResult first = t.run("gears", {}, true);
     const MethodResult list = t.run("gears", {{"deepest_first", "false"}}, true);
@@ -809,9 +810,9 @@ TEST(Gears, BoxCullLeavesOutPixelsNothingCanShadow) {
   EXPECT_LE(on.counters.at("gather_reads"), off.counters.at("gather_reads"));
 }
 
-/// The groups' own cull halves what the per-pixel culls scan on a frame (spheres 64², k 16, grid
-/// 16 so that cells hold dozens of samples; measured 0.29), and sets up the same candidates up to
-/// the early exits' chunking.
+/// The groups' own cull cuts what the per-pixel culls scan on a frame to under a third (spheres
+/// 64², k 16, grid 16 so that cells hold dozens of samples; measured 0.29), and sets up the same
+/// candidates up to the early exits' chunking.
 TEST(Gears, SampleGroupsCutThePerPixelScan) {
   const auto t = make_test_frame("spheres", 64, 64, grid_samples(16));
   const Visibility off =
