@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/shadows/method.hpp"
@@ -197,14 +198,18 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
     return (static_cast<size_t>(z) * n[1] + y) * n[0] + x;
   };
   std::vector<int32_t> dist(voxels, -1);  // −1: inside (until the flood); walls and outside: 0
+  // The voxel layers a triangle's box spans along axis a, first and last (unclamped).
+  const auto span = [&](const DVec3* v, int a) {
+    return std::pair{std::floor((std::min({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h),
+                     std::floor((std::max({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h)};
+  };
   const auto wall = [&](const DVec3* v) {
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-      const double mn = std::min({v[0][a], v[1][a], v[2][a]});
-      const double mx = std::max({v[0][a], v[1][a], v[2][a]});
+      const auto [first, last] = span(v, a);
       // (Clamped off the border layer, which only rounding could reach.)
-      lo[a] = std::clamp(static_cast<int>(std::floor((mn - origin[a]) / h)), 1, n[a] - 2);
-      hi[a] = std::clamp(static_cast<int>(std::floor((mx - origin[a]) / h)), 1, n[a] - 2);
+      lo[a] = std::clamp(static_cast<int>(first), 1, n[a] - 2);
+      hi[a] = std::clamp(static_cast<int>(last), 1, n[a] - 2);
     }
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
@@ -215,9 +220,10 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   double visits = 0.0;
   const auto box_voxels = [&](const DVec3* v) {
     double count = 1.0;
-    for (int a = 0; a < 3; ++a)
-      count *= std::floor((std::max({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h) -
-               std::floor((std::min({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h) + 1.0;
+    for (int a = 0; a < 3; ++a) {
+      const auto [first, last] = span(v, a);
+      count *= last - first + 1.0;
+    }
     return count;
   };
   const auto& occluders = scene.occluders();
