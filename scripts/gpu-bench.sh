@@ -71,7 +71,7 @@ def check(method, scene, size, k):
 print(f"Device: {device}. Vulkan: wall ms per frame (host, around upload, GPU work and readback) "
       "and the sum of the GPU stage times (timestamps); CPU: wall ms per frame of the CPU method on "
       "the same frame. Check: CPU vs Vulkan differences on that frame.\n")
-print("Table 1 (gears, k = 16, grid 128): ms per frame vs output size\n")
+print("Table 1 (gears, k = 16, default grid: size / 8 cells per side): ms per frame vs output size\n")
 print("| scene | size | Vulkan wall ms | Vulkan GPU ms | CPU ms | CPU / Vulkan | check |")
 print("|---|---|---|---|---|---|---|")
 for scene in scenes:
@@ -96,7 +96,7 @@ for scene in scenes:
         cells = [f"{sum(b.get(k, 0.0) for k in s[col]):.2f}" if b else "–" for s in steps]
         print(f"| {scene} | {backend.lower()} | " + " | ".join(cells) + " |")
 
-print(f"\nTable 5 (gears, {t5}², grid 128): ms per frame vs bitmask resolution k×k (Vulkan / CPU)\n")
+print(f"\nTable 5 (gears, {t5}², default grid: size / 8 cells per side): ms per frame vs bitmask resolution k×k (Vulkan / CPU)\n")
 print("| scene | " + " | ".join(f"{k}×{k}" for k in (4, 8, 16, 32)) + " |")
 print("|---|" + "---|" * 4)
 for scene in scenes:

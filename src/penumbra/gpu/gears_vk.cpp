@@ -230,7 +230,8 @@ class GearsVk final : public ShadowMethod {
       if (pts.empty() || tri_count == 0) continue;
       t0 = std::chrono::steady_clock::now();
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
-      const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_, grid_);
+      const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_,
+                                              grid_resolution(grid_, g.width, g.height));
       GridCameraGpu cg{};
       cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
       cg.plane_z = cam.plane_z;
@@ -393,7 +394,7 @@ class GearsVk final : public ShadowMethod {
 
  private:
   Backend& backend_;
-  int grid_ = 128;
+  int grid_ = 0;
   float eye_distance_ = 1.0f;
 };
 

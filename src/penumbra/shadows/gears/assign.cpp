@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/stats.hpp"
 
@@ -235,7 +236,6 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   const double sgn = side < 0 ? -1.0 : 1.0;
   std::vector<CellRect> rects(n);
   std::vector<float> zmins(n);
-  std::vector<uint64_t> counts(n, 0);
   std::atomic<uint64_t> behind{0}, beyond{0}, straddle{0}, no_retraction{0}, aabb_cells{0};
   const double far_z = cam.far_z;
   const double straddle_z = cam.light_max_z + 1e-6 * std::max(1.0, std::abs(far_z));
@@ -298,21 +298,18 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
           r = zr < zmin ? CellRect{} : intersect(r, footprint(cam, tri, zr));
         }
       }
-      uint64_t count = 0;
       if (slab_triangle(t)) {
         slab.for_each_cell(slab_sphere[t], [&](int c) {
           if (cell_ok(c, zmins[t])) slab_cells[t].push_back(static_cast<uint32_t>(c));
         });
-        count = slab_cells[t].size();
-        l_aabb += count;
+        l_aabb += slab_cells[t].size();
       } else if (!r.empty()) {
         l_aabb += r.area();
-        for (int y = r.y0; y <= r.y1; ++y)
-          for (int x = r.x0; x <= r.x1; ++x) count += cell_ok(y * cam.res_x + x, zmins[t]);
-        if (!options.retraction) l_noret += count;
+        if (!options.retraction)
+          for (int y = r.y0; y <= r.y1; ++y)
+            for (int x = r.x0; x <= r.x1; ++x) l_noret += cell_ok(y * cam.res_x + x, zmins[t]);
       }
       rects[t] = r;
-      counts[t] = count;
     }
     behind += l_behind;
     beyond += l_beyond;
@@ -322,9 +319,9 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   });
   stats.count_ms += elapsed_ms(t0);
 
-  // Prefix sum of cellsN [Wang 2014 §4.2], in order of nearest depth (ties: triangle id): the
-  // stable sort by cell keeps that order, so each cell's list is sorted by depth and a work item
-  // reads only the prefix its deepest sample can be blocked by (the depth cut).
+  // The triangles in order of nearest depth (ties: id) [Wang 2014 §4.2 takes a prefix sum of
+  // cellsN in triangle order]: each cell's list is then sorted by depth, and a work item reads
+  // only the prefix its deepest sample can be blocked by (the depth cut).
   t0 = std::chrono::steady_clock::now();
   // Sorted as 64-bit keys (depth bits made to order like the values, id): a strict total order,
   // so the parallel sort's result is the serial one's, without a lookup per comparison.
@@ -339,39 +336,70 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   tbb::parallel_sort(keys.begin(), keys.end());
   std::vector<uint32_t> order(n);
   for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(keys[i]);
-  std::vector<uint64_t> offsets(n + 1, 0);
-  for (size_t i = 0; i < n; ++i) offsets[i + 1] = offsets[i] + counts[order[i]];
   stats.prefix_ms += elapsed_ms(t0);
 
-  // Pass 2: write the (triID, cellID) pairs.
+  // Pass 2: the (triID, cellID) pairs, by cell [Wang 2014 §4.2 writes them, then sorts them on
+  // cellID]. Written in cell order at once, by a counting sort fused with the write: the
+  // depth-ordered triangles are cut into fixed chunks, each chunk counts its pairs per cell, the
+  // offsets run over (cell, chunk), and each chunk writes at its own cursor per cell. The result
+  // is the stable sort by cell of the depth-ordered pairs, without a sort's passes and buffer.
   t0 = std::chrono::steady_clock::now();
-  CellTriangles out;
-  out.zmin = zmins;
-  out.pairs.resize(offsets[n]);
-  parallel_chunks(n, 1024, [&](size_t b, size_t e) {
-    for (size_t i = b; i < e; ++i) {
-      const uint32_t t = order[i];
-      const CellRect& r = rects[t];
-      uint64_t o = offsets[i];
-      if (slab_triangle(t)) {
-        for (const uint32_t c : slab_cells[t]) out.pairs[o++] = {c, t};
-        continue;
+  auto for_each_cell_of = [&](uint32_t t, auto&& f) {
+    if (slab_triangle(t)) {
+      for (const uint32_t c : slab_cells[t]) f(c);
+      return;
+    }
+    const CellRect& r = rects[t];
+    for (int y = r.y0; y <= r.y1; ++y)
+      for (int x = r.x0; x <= r.x1; ++x) {
+        const int c = y * cam.res_x + x;
+        if (cell_ok(c, zmins[t])) f(static_cast<uint32_t>(c));
       }
-      if (r.empty()) continue;
-      for (int y = r.y0; y <= r.y1; ++y)
-        for (int x = r.x0; x <= r.x1; ++x) {
-          const int c = y * cam.res_x + x;
-          if (cell_ok(c, zmins[t]))
-            out.pairs[o++] = {static_cast<uint32_t>(c), static_cast<uint32_t>(t)};
-        }
+  };
+  const size_t cell_count = static_cast<size_t>(cam.cell_count());
+  // Fixed chunks (the result never depends on them nor on the threads); their cursors, chunks ×
+  // cells words, stay below about half the pairs' own size.
+  const size_t chunks = std::clamp<size_t>(aabb_cells.load() / (2 * cell_count), 1, 16);
+  const size_t per_chunk = (n + chunks - 1) / chunks;
+  std::vector<uint32_t> cursor(chunks * cell_count, 0);
+  parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
+    for (size_t ch = c0; ch < c1; ++ch) {
+      uint32_t* count = cursor.data() + ch * cell_count;
+      for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i)
+        for_each_cell_of(order[i], [&](uint32_t c) { ++count[c]; });
+    }
+  });
+  CellTriangles out;
+  out.begin.resize(cell_count);
+  out.end.resize(cell_count);
+  uint64_t running = 0;
+  for (size_t c = 0; c < cell_count; ++c) {
+    out.begin[c] = static_cast<uint32_t>(running);
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      uint32_t& at = cursor[ch * cell_count + c];
+      const uint32_t count = at;
+      at = static_cast<uint32_t>(running);
+      running += count;
+    }
+    out.end[c] = static_cast<uint32_t>(running);
+  }
+  if (running > UINT32_MAX)
+    throw Error("gears: more than 2^32 (triangle, cell) pairs; use a coarser gears.grid");
+  stats.sort_ms += elapsed_ms(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  out.zmin = zmins;
+  out.pairs.resize(running);
+  parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
+    for (size_t ch = c0; ch < c1; ++ch) {
+      uint32_t* at = cursor.data() + ch * cell_count;
+      for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i) {
+        const uint32_t t = order[i];
+        for_each_cell_of(t, [&](uint32_t c) { out.pairs[at[c]++] = {c, t}; });
+      }
     }
   });
   stats.write_ms += elapsed_ms(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  radix_sort_by_cell(out.pairs, static_cast<uint32_t>(cam.cell_count()));
-  cell_ranges(out.pairs, static_cast<uint32_t>(cam.cell_count()), out.begin, out.end);
-  stats.sort_ms += elapsed_ms(t0);
 
   stats.pairs += out.pairs.size();
   stats.pairs_without_retraction += no_retraction.load();

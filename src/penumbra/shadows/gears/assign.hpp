@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "penumbra/core/stats.hpp"
+#include "penumbra/core/uninit_vector.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
 #include "penumbra/shadows/gears/radix_sort.hpp"
 
@@ -16,10 +17,15 @@ namespace penumbra::gears {
 
 /// Occluding triangles in light space (structure of arrays, the layout the rasterizer gathers).
 struct TriangleSoup {
-  std::vector<float> x[3], y[3], z[3];  // vertex c of triangle t: (x[c][t], y[c][t], z[c][t])
-  std::vector<uint32_t> mesh, prim;     // where the triangle came from
-  std::vector<uint8_t> opaque;          // 1: opaque material (no alpha texture, no transmittance)
+  // Written in full right after resize(), in parallel: not zeroed first.
+  UninitVector<float> x[3], y[3], z[3];  // vertex c of triangle t: (x[c][t], y[c][t], z[c][t])
+  UninitVector<uint32_t> mesh, prim;     // where the triangle came from
+  UninitVector<uint8_t> opaque;          // 1: opaque material (no alpha texture, no transmittance)
   size_t size() const { return mesh.size(); }
+  void resize(size_t n) {
+    for (int c = 0; c < 3; ++c) x[c].resize(n), y[c].resize(n), z[c].resize(n);
+    mesh.resize(n), prim.resize(n), opaque.resize(n);
+  }
 };
 
 /// Pixel samples bucketed by grid cell (step 3.2), with the per-cell maximum depth.

@@ -34,7 +34,7 @@ namespace {
 using namespace gears;
 
 struct Options {
-  int grid = 128;
+  int grid = 0;  // 0: grid_resolution's choice for the image
   bool lut = false;
   int lut_resolution = 256;
   AssignOptions assign;
@@ -119,29 +119,28 @@ class Gears final : public ShadowMethod {
     TriangleSoup soup;
     bool any_translucent = false;  // alpha-textured or semi-opaque
     bool any_semi_opaque = false;
+    // Each shadow-casting mesh's triangles from its offset on, filled in parallel.
+    std::vector<size_t> first_of(ctx.scene.meshes.size() + 1, 0);
     for (size_t m = 0; m < ctx.scene.meshes.size(); ++m) {
       const Mesh& mesh = ctx.scene.meshes[m];
+      first_of[m + 1] = first_of[m] + (mesh.casts_shadows ? mesh.triangle_count() : 0);
       if (!mesh.casts_shadows) continue;
-      const bool opaque = ctx.scene.material_of(mesh).is_opaque();
-      any_translucent |= !opaque;
+      any_translucent |= !ctx.scene.material_of(mesh).is_opaque();
       any_semi_opaque |= ctx.scene.material_of(mesh).transmittance > 0.0f;
-      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-        soup.mesh.push_back(static_cast<uint32_t>(m));
-        soup.prim.push_back(static_cast<uint32_t>(t));
-        soup.opaque.push_back(opaque ? 1 : 0);
-      }
     }
-    const size_t tri_count = soup.size();
-    for (int c = 0; c < 3; ++c) {
-      soup.x[c].resize(tri_count);
-      soup.y[c].resize(tri_count);
-      soup.z[c].resize(tri_count);
-    }
+    const size_t tri_count = first_of.back();
+    soup.resize(tri_count);
     parallel_chunks(tri_count, 4096, [&](size_t b, size_t e) {
+      size_t m = std::upper_bound(first_of.begin(), first_of.end(), b) - first_of.begin() - 1;
       for (size_t t = b; t < e; ++t) {
-        const Mesh& mesh = ctx.scene.meshes[soup.mesh[t]];
+        while (t >= first_of[m + 1]) ++m;  // skips the meshes that cast no shadow
+        const Mesh& mesh = ctx.scene.meshes[m];
+        const size_t prim = t - first_of[m];
+        soup.mesh[t] = static_cast<uint32_t>(m);
+        soup.prim[t] = static_cast<uint32_t>(prim);
+        soup.opaque[t] = ctx.scene.material_of(mesh).is_opaque() ? 1 : 0;
         for (int c = 0; c < 3; ++c) {
-          const Vec3 q = space.to_light(mesh.vertex(soup.prim[t], c));
+          const Vec3 q = space.to_light(mesh.vertex(prim, c));
           soup.x[c][t] = q.x, soup.y[c][t] = q.y, soup.z[c][t] = q.z;
         }
       }
@@ -319,8 +318,9 @@ class Gears final : public ShadowMethod {
       if (!all_front) side_copy = mirrored(parallel_indices(active.size(), on_side));
       const std::vector<Vec3>& side_pts = all_front ? p_light : side_copy;
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
-      const GridCamera cam = make_grid_camera(side_space, corners, light_max_z, side_pts,
-                                              opt_.eye_distance, opt_.grid);
+      const GridCamera cam =
+          make_grid_camera(side_space, corners, light_max_z, side_pts, opt_.eye_distance,
+                           grid_resolution(opt_.grid, g.width, g.height));
       side_copy = {};
       const PixelCells cells = bucket_pixels(cam, ids, pts);
       project_ms += elapsed_ms(t0);
@@ -780,10 +780,11 @@ void register_gears(MethodRegistry& registry) {
   info.options = {
       {"grid",
        OptionType::integer,
-       "128",
-       "grid resolution (cells per side) of the triangle→pixel assignment",
+       "0",
+       "grid resolution (cells per side) of the triangle→pixel assignment; 0: one cell per 8×8 "
+       "image pixels (max(width, height) / 8, at least 16)",
        {},
-       1,
+       0,
        2048},
       {"variant",
        OptionType::choice,

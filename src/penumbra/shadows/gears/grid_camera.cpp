@@ -153,4 +153,9 @@ GridCamera make_grid_camera(const LightSpace& space, const std::vector<Vec3>& li
   return cam;
 }
 
+int grid_resolution(int option, int width, int height) {
+  if (option > 0) return option;
+  return std::max(16, (std::max(width, height) + 4) / 8);
+}
+
 }  // namespace penumbra::gears

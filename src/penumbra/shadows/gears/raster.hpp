@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "penumbra/core/math.hpp"
+#include "penumbra/core/uninit_vector.hpp"
 #include "penumbra/shadows/gears/assign.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
 
@@ -35,13 +36,14 @@ struct SampleBox {
 
 /// Candidate triangles of one work item (or of one pixel), in light space (SoA, padded to 16).
 struct CandidateBatch {
-  std::vector<float> v[9];  // ax ay az bx by bz cx cy cz
+  // Each fill writes every lane it later reads (the lanes up to `padded`): not zeroed first.
+  UninitVector<float> v[9];  // ax ay az bx by bz cx cy cz
   // Cull bounds (PackedTriangle: zmin, hx0, hx1, hy0, hy1; TrianglePlane), for the per-pixel cull.
-  std::vector<float> zmin, hx0, hx1, hy0, hy1;
-  std::vector<float> nx, ny, nz, nd, n1, lmin, lmax;
-  std::vector<uint32_t> tri;
-  std::vector<uint32_t> opaque;  // 1: opaque material
-  std::vector<uint32_t> solid;   // gears/solids.hpp: the triangle's solid, or kNoSolid
+  UninitVector<float> zmin, hx0, hx1, hy0, hy1;
+  UninitVector<float> nx, ny, nz, nd, n1, lmin, lmax;
+  UninitVector<uint32_t> tri;
+  UninitVector<uint32_t> opaque;  // 1: opaque material
+  UninitVector<uint32_t> solid;   // gears/solids.hpp: the triangle's solid, or kNoSolid
   int count = 0;
   int padded = 0;
   int read = 0;  // list entries the last gather() read
@@ -93,6 +95,7 @@ struct CandidateBatch {
   }
 
  private:
+  /// Room for `most` lanes in every array; what they held is not kept (each fill starts over).
   void reserve(size_t most);
   /// Appends lanes `m` of from[first, first + 16) (every array) at `count`.
   void append_lanes(const CandidateBatch& from, int first, uint32_t m);
