@@ -146,6 +146,28 @@ gears::TriangleSoup random_triangle(std::mt19937& rng, std::uniform_real_distrib
   return soup;
 }
 
+/// `count` random triangles (random_triangle), each shrunk towards its first vertex by a factor
+/// drawn from [shrink_lo, shrink_lo + shrink_span): small ones, like a dense mesh's.
+gears::TriangleSoup small_random_triangles(std::mt19937& rng,
+                                           std::uniform_real_distribution<float>& xy,
+                                           std::uniform_real_distribution<float>& z, int count,
+                                           float shrink_lo, float shrink_span) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  gears::TriangleSoup soup;
+  for (int t = 0; t < count; ++t) {
+    DVec3 v[3];
+    const gears::TriangleSoup one = random_triangle(rng, xy, z, v);
+    const float shrink = shrink_lo + shrink_span * unit(rng);
+    soup.mesh.push_back(0), soup.prim.push_back(t), soup.opaque.push_back(1);
+    for (int c = 0; c < 3; ++c) {
+      soup.x[c].push_back(one.x[0][0] + shrink * (one.x[c][0] - one.x[0][0]));
+      soup.y[c].push_back(one.y[0][0] + shrink * (one.y[c][0] - one.y[0][0]));
+      soup.z[c].push_back(one.z[0][0] + shrink * (one.z[c][0] - one.z[0][0]));
+    }
+  }
+  return soup;
+}
+
 /// A one-triangle soup's cull bounds (pack_triangles) under `light`.
 gears::PackedTriangle packed_one(const gears::TriangleSoup& soup, const gears::FlatLight& light) {
   const std::vector<float> zmin = {std::min({soup.z[0][0], soup.z[1][0], soup.z[2][0]})};
@@ -453,19 +475,10 @@ TEST(Gears, SampleGroupsDoNotChangeTheMasks) {
 TEST(Gears, AssignmentWritesCellListsInDepthOrder) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> xy(-1.0f, 2.0f), tz(0.2f, 1.5f), unit(0.0f, 1.0f);
-  gears::TriangleSoup soup;
-  for (uint32_t t = 0; t < 4000; ++t) {
-    DVec3 v[3];
-    const gears::TriangleSoup one = random_triangle(rng, xy, tz, v);
-    const float shrink = 0.05f + 0.2f * unit(rng);
-    soup.mesh.push_back(0), soup.prim.push_back(t), soup.opaque.push_back(1);
-    for (int c = 0; c < 3; ++c) {
-      soup.x[c].push_back(one.x[0][0] + shrink * (one.x[c][0] - one.x[0][0]));
-      soup.y[c].push_back(one.y[0][0] + shrink * (one.y[c][0] - one.y[0][0]));
-      // Depths on a coarse lattice too, so ties of zmin are broken by the id.
-      soup.z[c].push_back(t % 3 == 0 ? 0.75f : one.z[0][0] + shrink * (one.z[c][0] - one.z[0][0]));
-    }
-  }
+  gears::TriangleSoup soup = small_random_triangles(rng, xy, tz, 4000, 0.05f, 0.2f);
+  // A third of them flat at one depth, so ties of zmin are broken by the id.
+  for (size_t t = 0; t < soup.size(); t += 3)
+    for (int c = 0; c < 3; ++c) soup.z[c][t] = 0.75f;
   std::vector<Vec3> samples(3000);
   std::vector<uint32_t> ids(samples.size());
   for (size_t i = 0; i < samples.size(); ++i)
@@ -524,19 +537,7 @@ TEST(Gears, GroupCullKeepsWhatEachPixelKeeps) {
     gears::GridCamera cam;
     size_t item_kept = 0, group_kept = 0, pixel_kept = 0, groups = 0, solid_dropped = 0;
     for (int trial = 0; trial < 40; ++trial) {
-      gears::TriangleSoup soup;
-      for (int t = 0; t < 600; ++t) {
-        DVec3 v[3];
-        const gears::TriangleSoup one = random_triangle(rng, xy, tz, v);
-        // Small triangles, like a dense mesh's: shrunk towards their first vertex.
-        const float shrink = 0.02f + 0.3f * unit(rng);
-        soup.mesh.push_back(0), soup.prim.push_back(t), soup.opaque.push_back(1);
-        for (int c = 0; c < 3; ++c) {
-          soup.x[c].push_back(one.x[0][0] + shrink * (one.x[c][0] - one.x[0][0]));
-          soup.y[c].push_back(one.y[0][0] + shrink * (one.y[c][0] - one.y[0][0]));
-          soup.z[c].push_back(one.z[0][0] + shrink * (one.z[c][0] - one.z[0][0]));
-        }
-      }
+      const gears::TriangleSoup soup = small_random_triangles(rng, xy, tz, 600, 0.02f, 0.3f);
       std::vector<float> zmin(soup.size());
       for (size_t t = 0; t < soup.size(); ++t)
         zmin[t] = std::min({soup.z[0][t], soup.z[1][t], soup.z[2][t]});
