@@ -344,31 +344,35 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   // offsets run over (cell, chunk), and each chunk writes at its own cursor per cell. The result
   // is the stable sort by cell of the depth-ordered pairs, without a sort's passes and buffer.
   t0 = std::chrono::steady_clock::now();
-  auto for_each_cell_of = [&](uint32_t t, auto&& f) {
-    if (slab_triangle(t)) {
-      for (const uint32_t c : slab_cells[t]) f(c);
-      return;
-    }
-    const CellRect& r = rects[t];
-    for (int y = r.y0; y <= r.y1; ++y)
-      for (int x = r.x0; x <= r.x1; ++x) {
-        const int c = y * cam.res_x + x;
-        if (cell_ok(c, zmins[t])) f(static_cast<uint32_t>(c));
-      }
-  };
   const size_t cell_count = static_cast<size_t>(cam.cell_count());
   // Fixed chunks (the result never depends on them nor on the threads); their cursors, chunks ×
   // cells words, stay below about half the pairs' own size.
   const size_t chunks = std::clamp<size_t>(aabb_cells.load() / (2 * cell_count), 1, 16);
   const size_t per_chunk = (n + chunks - 1) / chunks;
+  // Calls f(row, cell, triangle) for every pair, each chunk's in order with its own row of
+  // `cursor` (chunks in parallel).
   std::vector<uint32_t> cursor(chunks * cell_count, 0);
-  parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
-    for (size_t ch = c0; ch < c1; ++ch) {
-      uint32_t* count = cursor.data() + ch * cell_count;
-      for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i)
-        for_each_cell_of(order[i], [&](uint32_t c) { ++count[c]; });
-    }
-  });
+  auto for_each_pair = [&](auto&& f) {
+    parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
+      for (size_t ch = c0; ch < c1; ++ch) {
+        uint32_t* row = cursor.data() + ch * cell_count;
+        for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i) {
+          const uint32_t t = order[i];
+          if (slab_triangle(t)) {
+            for (const uint32_t c : slab_cells[t]) f(row, c, t);
+            continue;
+          }
+          const CellRect& r = rects[t];
+          for (int y = r.y0; y <= r.y1; ++y)
+            for (int x = r.x0; x <= r.x1; ++x) {
+              const int c = y * cam.res_x + x;
+              if (cell_ok(c, zmins[t])) f(row, static_cast<uint32_t>(c), t);
+            }
+        }
+      }
+    });
+  };
+  for_each_pair([](uint32_t* count, uint32_t c, uint32_t) { ++count[c]; });
   CellTriangles out;
   out.begin.resize(cell_count);
   out.end.resize(cell_count);
@@ -390,15 +394,7 @@ CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, 
   t0 = std::chrono::steady_clock::now();
   out.zmin = zmins;
   out.pairs.resize(running);
-  parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
-    for (size_t ch = c0; ch < c1; ++ch) {
-      uint32_t* at = cursor.data() + ch * cell_count;
-      for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i) {
-        const uint32_t t = order[i];
-        for_each_cell_of(t, [&](uint32_t c) { out.pairs[at[c]++] = {c, t}; });
-      }
-    }
-  });
+  for_each_pair([&](uint32_t* at, uint32_t c, uint32_t t) { out.pairs[at[c]++] = {c, t}; });
   stats.write_ms += elapsed_ms(t0);
 
   stats.pairs += out.pairs.size();

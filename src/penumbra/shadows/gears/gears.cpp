@@ -121,11 +121,13 @@ class Gears final : public ShadowMethod {
     bool any_semi_opaque = false;
     // Each shadow-casting mesh's triangles from its offset on, filled in parallel.
     std::vector<size_t> first_of(ctx.scene.meshes.size() + 1, 0);
+    std::vector<uint8_t> mesh_opaque(ctx.scene.meshes.size(), 0);
     for (size_t m = 0; m < ctx.scene.meshes.size(); ++m) {
       const Mesh& mesh = ctx.scene.meshes[m];
       first_of[m + 1] = first_of[m] + (mesh.casts_shadows ? mesh.triangle_count() : 0);
       if (!mesh.casts_shadows) continue;
-      any_translucent |= !ctx.scene.material_of(mesh).is_opaque();
+      mesh_opaque[m] = ctx.scene.material_of(mesh).is_opaque() ? 1 : 0;
+      any_translucent |= !mesh_opaque[m];
       any_semi_opaque |= ctx.scene.material_of(mesh).transmittance > 0.0f;
     }
     const size_t tri_count = first_of.back();
@@ -138,7 +140,7 @@ class Gears final : public ShadowMethod {
         const size_t prim = t - first_of[m];
         soup.mesh[t] = static_cast<uint32_t>(m);
         soup.prim[t] = static_cast<uint32_t>(prim);
-        soup.opaque[t] = ctx.scene.material_of(mesh).is_opaque() ? 1 : 0;
+        soup.opaque[t] = mesh_opaque[m];
         for (int c = 0; c < 3; ++c) {
           const Vec3 q = space.to_light(mesh.vertex(prim, c));
           soup.x[c][t] = q.x, soup.y[c][t] = q.y, soup.z[c][t] = q.z;
