@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/progress.hpp"
+#include "penumbra/core/simd.hpp"
 #include "penumbra/core/suggest.hpp"
 
 namespace {
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
   penumbra::cli::add_report_command(app);
   penumbra::cli::add_scene_command(app);
   try {
+    penumbra::simd::configure_from_environment();
     app.parse(argc, argv);  // runs the chosen subcommand's callback
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

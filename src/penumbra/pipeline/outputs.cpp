@@ -5,6 +5,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/simd.hpp"
 
 namespace penumbra {
 
@@ -122,6 +123,7 @@ nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
   const Scene& scene = frame.scene();
   nlohmann::json j;
   j["method"] = result.method;
+  j["simd"] = simd::active_target();  // the instruction set the dispatched kernels ran on
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [key, value] : result.options.values()) params[key] = value;
   j["parameters"] = params;

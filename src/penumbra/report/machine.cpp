@@ -4,6 +4,8 @@
 #include <fstream>
 #include <thread>
 
+#include "penumbra/core/simd.hpp"
+
 namespace penumbra::report {
 
 namespace {
@@ -26,10 +28,12 @@ std::string build_description() {
 #if defined(__SANITIZE_ADDRESS__)
   b += ", ASan+UBSan (times are not representative)";
 #endif
+  // The SIMD target the dispatched kernels ran on (PENUMBRA_SIMD or the CPU's best).
+  b += ", SIMD " + simd::active_target();
 #if defined(__AVX512F__)
-  b += ", AVX-512";
+  b += ", compiled for AVX-512";
 #elif defined(__AVX2__)
-  b += ", AVX2";
+  b += ", compiled for AVX2";
 #endif
   return b;
 }

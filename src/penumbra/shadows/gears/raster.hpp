@@ -18,7 +18,9 @@
 
 namespace penumbra::gears {
 
-inline constexpr int kLanes = 16;  // triangles set up together (one AVX-512 register of floats)
+// Triangles set up together: one AVX-512 register of floats, two AVX2 or four SSE4/NEON registers
+// (the kernels are dispatched per CPU: core/simd.hpp).
+inline constexpr int kLanes = 16;
 
 /// The sample box and grid setup_batch tests a shadow's bounding box against (its uv_lo, uv_hi,
 /// grid_k arguments), for CandidateBatch::keep.
@@ -97,8 +99,6 @@ struct CandidateBatch {
  private:
   /// Room for `most` lanes in every array; what they held is not kept (each fill starts over).
   void reserve(size_t most);
-  /// Appends lanes `m` of from[first, first + 16) (every array) at `count`.
-  void append_lanes(const CandidateBatch& from, int first, uint32_t m);
   size_t reserved_ = 0;  // every array above holds at least this many elements
   void pad();
   void pad_setup();
