@@ -771,13 +771,33 @@ TEST(Gears, SphereLightAmongOccludersMatchesRaytrace) {
   const MaskAgreement a = compare_masks(t);
   expect_equal_masks(a);
   EXPECT_EQ(a.differ, 0u);
-  // Per-pixel V (opaque bits and the glass sphere's transmittance) as raytrace's.
+  // Per-pixel V (opaque bits and the glass sphere's transmittance) as raytrace's, except where a
+  // sample's segment grazes a triangle's edge within float tolerance (either answer is right
+  // there; which one each side gives depends on FMA and evaluation order: measured, one pixel of
+  // 4 096 with or without FMA, the two answers a glass layer apart).
   const MethodResult rt = t.run("raytrace"), ge = t.run("gears");
+  const GBuffer& g = t.frame->gbuffer();
+  std::vector<Vec2> uv(t.frame->samples().count());
   double max_dv = 0.0;
-  for (size_t i = 0; i < rt.per_light[0].lit.size(); ++i)
-    max_dv = std::max(max_dv, double(std::abs(rt.per_light[0].lit[i] - ge.per_light[0].lit[i])));
-  std::printf("sphere light in a room: max |dV| %.2e\n", max_dv);
-  EXPECT_LE(max_dv, 1e-5);
+  int differ = 0, unexplained = 0;
+  for (size_t i = 0; i < rt.per_light[0].lit.size(); ++i) {
+    const double dv = std::abs(rt.per_light[0].lit[i] - ge.per_light[0].lit[i]);
+    if (dv <= 1e-5) continue;
+    ++differ;
+    max_dv = std::max(max_dv, dv);
+    t.frame->samples().pixel_samples(static_cast<int>(i % g.width), static_cast<int>(i / g.width),
+                                     uv);
+    const Vec3 o = g.shadow_origin(i);
+    bool tie = false;
+    for (const Vec2& q : uv)
+      tie =
+          tie || ambiguous(*t.scene, DVec3(o), DVec3(light_frame(t.scene->lights[0], o).point(q)));
+    unexplained += !tie;
+  }
+  std::printf("sphere light in a room: %d pixels differ (max |dV| %.2e), %d unexplained\n", differ,
+              max_dv, unexplained);
+  EXPECT_LE(differ, 2);
+  EXPECT_EQ(unexplained, 0);
 }
 
 /// Irregular samples: the edge-plane variant tests every sample (row spans need the grid).

@@ -99,6 +99,14 @@ std::string active_target() {
   return hwy::TargetName(t);
 }
 
+bool at_least_avx2() {
+#if HWY_ARCH_X86
+  return (HWY_DYNAMIC_DISPATCH(compiled_target)() & (HWY_AVX2 | HWY_AVX3 | HWY_AVX3_DL)) != 0;
+#else
+  return false;
+#endif
+}
+
 std::string embree_isa() {
   return pinned != nullptr ? pinned->embree : "";
 }

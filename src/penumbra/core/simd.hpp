@@ -22,6 +22,10 @@ void pin(const std::string& name);
 /// The target dispatched code runs on now: "scalar", "SSE4", "AVX2", "AVX-512", "NEON", ...
 std::string active_target();
 
+/// True where the dispatched target is AVX2 or better (x86-64): for code that picks an AVX2 library
+/// routine itself (libmvec's vector atan2).
+bool at_least_avx2();
+
 /// The PENUMBRA_SIMD names usable on this CPU with this build, best first.
 std::vector<std::string> available();
 

@@ -4,16 +4,13 @@
 #include <cmath>
 
 #include "penumbra/core/parallel.hpp"
+#include "penumbra/core/simd.hpp"
 #include "penumbra/render/receivers.hpp"
 
-#if PENUMBRA_HAVE_LIBMVEC && (defined(__AVX512F__) || defined(__AVX2__))
+#if PENUMBRA_HAVE_LIBMVEC && defined(__x86_64__)
 #include <immintrin.h>
 // glibc's vector atan2 (libmvec, x86-64 vector ABI names): within 4 ulp of the scalar atan2.
-#if defined(__AVX512F__)
-extern "C" __m512d _ZGVeN8vv_atan2(__m512d y, __m512d x);
-#else
 extern "C" __m256d _ZGVdN4vv_atan2(__m256d y, __m256d x);
-#endif
 #endif
 
 namespace penumbra {
@@ -22,16 +19,22 @@ namespace {
 
 constexpr int kLanes = 8;  // receivers per batch of fill's rectangle path
 
-/// out[l] = atan2(y[l], x[l]) for the kLanes lanes.
-void atan2_lanes(const double* y, const double* x, double* out) {
-#if PENUMBRA_HAVE_LIBMVEC && defined(__AVX512F__)
-  _mm512_storeu_pd(out, _ZGVeN8vv_atan2(_mm512_loadu_pd(y), _mm512_loadu_pd(x)));
-#elif PENUMBRA_HAVE_LIBMVEC && defined(__AVX2__)
+#if PENUMBRA_HAVE_LIBMVEC && defined(__x86_64__)
+/// libmvec's AVX2 atan2, 4 lanes at a time (called only where simd::at_least_avx2()).
+__attribute__((target("avx2,fma"))) void atan2_lanes_avx2(const double* y, const double* x,
+                                                          double* out) {
   for (int h = 0; h < kLanes; h += 4)
     _mm256_storeu_pd(out + h, _ZGVdN4vv_atan2(_mm256_loadu_pd(y + h), _mm256_loadu_pd(x + h)));
-#else
-  for (int l = 0; l < kLanes; ++l) out[l] = std::atan2(y[l], x[l]);
+}
 #endif
+
+/// out[l] = atan2(y[l], x[l]) for the kLanes lanes.
+void atan2_lanes(const double* y, const double* x, double* out, bool avx2) {
+#if PENUMBRA_HAVE_LIBMVEC && defined(__x86_64__)
+  if (avx2) return atan2_lanes_avx2(y, x, out);
+#endif
+  (void)avx2;
+  for (int l = 0; l < kLanes; ++l) out[l] = std::atan2(y[l], x[l]);
 }
 
 /// The contour term of the straight edge a → b (both relative to the receiver): θ · (n·û).
@@ -324,6 +327,7 @@ void LightIrradiance::fill_rect_batch(const GBuffer& g, const size_t* pixels, in
     }
   }
   const bool one_sided = !light_->two_sided;
+  const bool avx2 = simd::at_least_avx2();
   alignas(64) double corner[4][3][kLanes], height[4][kLanes];
   bool simple[kLanes];
   for (int l = 0; l < kLanes; ++l) {
@@ -355,7 +359,7 @@ void LightIrradiance::fill_rect_batch(const GBuffer& g, const size_t* pixels, in
       cos_part[l] = a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l];
       n_dot_c[l] = n[0][l] * cx + n[1][l] * cy + n[2][l] * cz;
     }
-    atan2_lanes(len, cos_part, angle);
+    atan2_lanes(len, cos_part, angle, avx2);
     for (int l = 0; l < kLanes; ++l) sum[l] += len[l] > 0.0 ? angle[l] * n_dot_c[l] / len[l] : 0.0;
   }
   for (int l = 0; l < count; ++l) {
