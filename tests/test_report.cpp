@@ -54,6 +54,13 @@ TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));  // only the SVG ns
   EXPECT_EQ(html.find("https://"), std::string::npos);
+  // The error-against-time chart also stands alone (scripts/results.sh copies it into docs/),
+  // the same SVG as the page's, one series per method but the reference.
+  const std::string chart = read_text(out / "error_vs_time.svg");
+  EXPECT_EQ(chart.rfind("<svg xmlns='http://www.w3.org/2000/svg'", 0), 0u);
+  EXPECT_NE(html.find(chart), std::string::npos);
+  EXPECT_NE(chart.find("raytrace"), std::string::npos);
+  EXPECT_NE(chart.find("pcss"), std::string::npos);
 
   for (const auto& scene : j["scenes"]) {
     const std::string name = scene["name"], folder = scene["folder"];

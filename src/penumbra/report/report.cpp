@@ -248,6 +248,7 @@ fs::path write_report(const ReportSpec& in) {
   plot::write_text_file(index, report_html(data));
   plot::write_text_file(spec.out_dir / "report.json", report_json(data).dump(2) + "\n");
   plot::write_text_file(spec.out_dir / "results.md", report_markdown(data));
+  plot::write_text_file(spec.out_dir / "error_vs_time.svg", error_vs_time_svg(data));
   return index;
 }
 

@@ -30,7 +30,8 @@ struct ReportSpec {
 /// The sweeps `penumbra report --sweep` knows.
 const std::vector<std::string>& sweep_names();
 
-/// Renders everything and writes out_dir/{index.html, report.json, results.md, <scene>/*.png}.
+/// Renders everything and writes out_dir/{index.html, report.json, results.md,
+/// error_vs_time.svg, <scene>/*.png}.
 /// Returns the path of index.html. A method that throws Error on a scene gets a "failed" row
 /// with the message; a scene that cannot be loaded is an Error.
 std::filesystem::path write_report(const ReportSpec& spec);

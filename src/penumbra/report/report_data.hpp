@@ -62,6 +62,9 @@ struct ReportData {
 
 /// The page: index.html's whole text.
 std::string report_html(const ReportData& data);
+/// The across-scenes error-against-time chart, a standalone SVG (error_vs_time.svg, and inline in
+/// the page): what docs/choosing.md shows.
+std::string error_vs_time_svg(const ReportData& data);
 /// Everything as JSON (report.json).
 nlohmann::json report_json(const ReportData& data);
 /// The Markdown results (results.md): header, then per scene its summary table.

@@ -325,6 +325,10 @@ std::string sweep_charts(const SweepEntry& sw) {
 
 }  // namespace
 
+std::string error_vs_time_svg(const ReportData& data) {
+  return error_vs_time(data);
+}
+
 std::string report_html(const ReportData& d) {
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>\n"
