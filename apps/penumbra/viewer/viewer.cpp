@@ -1,0 +1,236 @@
+#include "viewer.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <thread>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/io/image_io.hpp"
+#include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/scene/scene_writer.hpp"
+
+namespace penumbra::viewer {
+
+namespace {
+
+constexpr int kPanelWidth = 380;
+constexpr int kMinWindowHeight = 640;
+
+/// Small images are shown enlarged: at least 512 pixels on their longer side.
+int initial_scale(int width, int height) {
+  return std::max(1, 512 / std::max(width, height));
+}
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+void LatencyLog::shown(uint64_t generation, bool preview) {
+  const auto now = Clock::now();
+  for (Edit& e : edits)
+    if (e.generation <= generation && e.first_frame_ms < 0.0) {
+      e.first_frame_ms = ms_between(e.at, now);
+      e.preview = preview;
+    }
+}
+
+std::string LatencyLog::summary() const {
+  std::vector<double> ms;
+  int previews = 0;
+  for (const Edit& e : edits)
+    if (e.first_frame_ms >= 0.0) {
+      ms.push_back(e.first_frame_ms);
+      previews += e.preview ? 1 : 0;
+    }
+  char line[256];
+  if (ms.empty()) {
+    std::snprintf(line, sizeof line, "view: no edits; longest UI frame %.1f ms",
+                  longest_ui_frame_ms);
+    return line;
+  }
+  std::sort(ms.begin(), ms.end());
+  std::snprintf(line, sizeof line,
+                "view: %zu edits, first frame showing each: median %.1f ms, p90 %.1f ms, max "
+                "%.1f ms (%d of them previews); longest UI frame %.1f ms",
+                ms.size(), ms[ms.size() / 2], ms[ms.size() * 9 / 10], ms.back(), previews,
+                longest_ui_frame_ms);
+  return line;
+}
+
+Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script)
+    : args_(args),
+      base_(std::move(scene)),
+      state_(base_, args.method, LightSampleSpec{}),
+      window_(
+          base_.camera.width * initial_scale(base_.camera.width, base_.camera.height) + kPanelWidth,
+          std::max(kMinWindowHeight,
+                   base_.camera.height * initial_scale(base_.camera.width, base_.camera.height)),
+          "penumbra view: " + base_.name),
+      preview_worker_(GlWindow::wake, false),
+      full_worker_(GlWindow::wake, true),
+      reference_worker_(GlWindow::wake, true),
+      script_(std::move(script)) {
+  state_.options = args.options;
+  state_.samples.k = args.samples;
+  state_.samples.seed = args.seed;
+  state_.samples.pattern = *parse_sample_pattern(args.pattern);
+  split_[0] = "exact";
+  split_[1] = args.method;
+  last_edit_ = Clock::now() - std::chrono::hours(1);
+}
+
+Viewer::~Viewer() = default;
+
+void Viewer::edited() {
+  state_.changed();
+  last_edit_ = Clock::now();
+  latency_.edited(state_.generation);
+}
+
+RenderJob Viewer::make_job(bool preview, bool reference) const {
+  const MethodRegistry& registry = MethodRegistry::builtin();
+  RenderJob job;
+  job.generation = state_.generation;
+  job.preview = preview;
+  int w = state_.width, h = state_.height;
+  if (preview) {
+    const int d = args_.preview_divisor;
+    w = std::max(1, (w + d - 1) / d);
+    h = std::max(1, (h + d - 1) / d);
+  }
+  job.scene = std::make_shared<const Scene>(edited_scene(base_, state_, w, h));
+  job.samples = state_.samples;
+  std::vector<std::string> names{state_.method};
+  if (reference) {
+    names = {"exact"};
+    job.shade = false;
+  } else if (mode_ == ViewMode::split) {
+    names = {split_[0], split_[1]};
+  }
+  for (const std::string& name : names) {
+    const MethodInfo& info = registry.get(name);
+    const auto it = state_.options.find(name);
+    job.methods.push_back(&info);
+    job.options.push_back(resolve_options(
+        info, it == state_.options.end() ? std::map<std::string, std::string>{} : it->second));
+  }
+  job.submitted = Clock::now();
+  return job;
+}
+
+void Viewer::schedule() {
+  const uint64_t g = state_.generation;
+  const bool still = script_waiting_ || args_.preview_divisor <= 1 ||
+                     ms_between(last_edit_, Clock::now()) >= args_.settle_ms;
+  // The reference is the method itself when the method is `exact`.
+  const bool reference = needs_reference(mode_) && state_.method != "exact";
+  const uint64_t reference_key = 2 * g + (still ? 0 : 1);
+  try {
+    if (!still && preview_sent_ != g) {
+      preview_worker_.submit(make_job(true, false));
+      preview_sent_ = g;
+    }
+    if (still && full_sent_ != g) {
+      full_worker_.submit(make_job(false, false));
+      full_sent_ = g;
+    }
+    if (reference && reference_sent_ != reference_key) {
+      reference_worker_.submit(make_job(!still, true));
+      reference_sent_ = reference_key;
+    }
+  } catch (const Error& e) {  // an edit the scene cannot take (e.g. a light out of range)
+    job_error_ = e.what();
+    job_error_generation_ = g;
+    preview_sent_ = full_sent_ = g;
+    reference_sent_ = reference_key;
+  }
+}
+
+void Viewer::accept(std::shared_ptr<RenderOutput> out, bool reference) {
+  const RenderJob& job = out->job;
+  if (!out->error.empty()) {
+    if (job.generation == state_.generation) {
+      job_error_ = out->error;
+      job_error_generation_ = job.generation;
+    }
+    return;
+  }
+  std::shared_ptr<RenderOutput>& slot = reference ? reference_ : shown_;
+  // Stale: older than what is shown, or a preview of what is shown in full.
+  if (slot && (job.generation < slot->job.generation ||
+               (job.generation == slot->job.generation && job.preview && !slot->job.preview)))
+    return;
+  if (!reference) latency_.shown(job.generation, job.preview);
+  slot = std::move(out);
+  picture_dirty_ = true;
+}
+
+void Viewer::collect() {
+  if (auto out = preview_worker_.take()) accept(std::move(out), false);
+  if (auto out = full_worker_.take()) accept(std::move(out), false);
+  if (auto out = reference_worker_.take()) accept(std::move(out), true);
+}
+
+void Viewer::refresh_picture() {
+  if (!picture_dirty_ || !shown_) return;
+  const bool self_reference =
+      shown_->results.size() == 1 && shown_->results.front().method == "exact";
+  const RenderOutput* reference = self_reference ? shown_.get() : reference_.get();
+  window_.set_image(make_picture(mode_, light_, *shown_, reference, picture_info_));
+  picture_dirty_ = false;
+}
+
+bool Viewer::frame_is_final() const {
+  const uint64_t g = state_.generation;
+  if (!shown_ || shown_->job.generation != g || shown_->job.preview || picture_dirty_) return false;
+  if (needs_reference(mode_) && state_.method != "exact")
+    return reference_ && reference_->job.generation == g && !reference_->job.preview;
+  return true;
+}
+
+void Viewer::save_visibility(const std::filesystem::path& path) const {
+  const VisibilityLayers layers = visibility_layers(*shown_->frame, shown_->results.front());
+  write_exr_views(path, layers.layers);
+}
+
+void Viewer::save_scene(const std::filesystem::path& path) const {
+  write_scene_file(*shown_->job.scene, path);
+}
+
+void Viewer::run() {
+  auto frame_start = Clock::now();
+  while (!quit_ && !window_.should_close()) {
+    // Scripts run flat out (a frame every 5 ms at most); a person's window sleeps until an
+    // event, a worker's result or the end of the settle time after an edit.
+    const double since_edit = ms_between(last_edit_, Clock::now());
+    double timeout_s = 0.5;
+    if (!args_.script.empty())
+      timeout_s = 0.005;
+    else if (since_edit < args_.settle_ms)
+      timeout_s = (args_.settle_ms - since_edit) / 1000.0;
+    window_.wait_events(std::max(timeout_s, 0.001));
+    frame_start = Clock::now();
+    collect();
+    step_script();
+    if (quit_) break;
+    schedule();
+    refresh_picture();
+    window_.begin_frame();
+    handle_mouse();
+    draw_panel();
+    window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);
+    screenshot_.reset();
+    latency_.longest_ui_frame_ms =
+        std::max(latency_.longest_ui_frame_ms, ms_between(frame_start, Clock::now()));
+  }
+  if (!args_.script.empty()) std::fprintf(stderr, "%s\n", latency_.summary().c_str());
+}
+
+void run_viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script) {
+  Viewer viewer(args, std::move(scene), std::move(script));
+  viewer.run();
+}
+
+}  // namespace penumbra::viewer
