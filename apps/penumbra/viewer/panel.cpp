@@ -155,16 +155,15 @@ void Viewer::option_widgets() {
 
 void Viewer::light_panel() {
   if (!ImGui::CollapsingHeader("Light and camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  if (base_.lights.size() > 1) {
+  if (base_->lights.size() > 1) {
     int l = light_;
-    if (ImGui::SliderInt("light", &l, 0, static_cast<int>(base_.lights.size()) - 1)) {
+    if (ImGui::SliderInt("light", &l, 0, static_cast<int>(base_->lights.size()) - 1)) {
       light_ = l;
       picture_dirty_ = true;
     }
   }
   LightEdit& edit = state_.lights[static_cast<size_t>(light_)];
-  const Bounds3 b = base_.bounds();
-  const float step = glm::length(b.hi - b.lo) * 0.002f;
+  const float step = scene_diagonal_ * 0.002f;
   bool changed = ImGui::DragFloat3("centre", &edit.center.x, step, 0.0f, 0.0f, "%.3f");
   changed |=
       ImGui::SliderFloat("size ×", &edit.scale, 0.01f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic);
@@ -177,13 +176,13 @@ void Viewer::light_panel() {
   changed |= ImGui::SliderFloat("radiance ×", &edit.intensity, 0.01f, 100.0f, "%.3f",
                                 ImGuiSliderFlags_Logarithmic);
   if (ImGui::Button("reset light")) {
-    edit = {base_.lights[static_cast<size_t>(light_)].center, 1.0f,
-            base_.lights[static_cast<size_t>(light_)].shape, 1.0f};
+    edit = {base_->lights[static_cast<size_t>(light_)].center, 1.0f,
+            base_->lights[static_cast<size_t>(light_)].shape, 1.0f};
     changed = true;
   }
   ImGui::SameLine();
   if (ImGui::Button("reset camera")) {
-    state_.camera = OrbitCamera(base_.camera);
+    state_.camera = OrbitCamera(base_->camera);
     changed = true;
   }
   if (changed) edited();
@@ -228,7 +227,7 @@ void Viewer::stats_panel() {
   const MethodResult& r = s.results.front();
   const bool current = s.job.generation == state_.generation;
   ImGui::Text("%s  %.1f ms", r.method.c_str(), r.total_ms);
-  ImGui::Text("%dx%d %s%s, K=%d", s.job.scene->camera.width, s.job.scene->camera.height,
+  ImGui::Text("%dx%d %s%s, K=%d", s.job.camera.width, s.job.camera.height,
               s.job.preview ? "preview" : "full", current ? "" : " (computing)", s.job.samples.k);
   ImGui::Text("frame %.1f ms, shading %.1f ms, shown %.0f ms after the edit", s.frame_ms,
               s.shade_ms,

@@ -23,8 +23,7 @@ report::Rgb8Image split_picture(const report::Rgb8Image& a, const report::Rgb8Im
 
 bool same_frame(const RenderOutput& a, const RenderOutput& b) {
   return a.job.generation == b.job.generation && a.error.empty() && b.error.empty() &&
-         a.job.scene->camera.width == b.job.scene->camera.width &&
-         a.job.scene->camera.height == b.job.scene->camera.height;
+         a.job.camera.width == b.job.camera.width && a.job.camera.height == b.job.camera.height;
 }
 
 }  // namespace

@@ -69,8 +69,11 @@ std::shared_ptr<RenderOutput> RenderWorker::run(const RenderJob& job) const {
   auto out = std::make_shared<RenderOutput>();
   out->job = job;
   try {
+    const auto scene_start = std::chrono::steady_clock::now();
+    out->scene = std::make_shared<const Scene>(edited_scene(*job.base, job.lights, job.camera));
+    out->scene_ms = elapsed_ms(scene_start);
     const auto start = std::chrono::steady_clock::now();
-    out->frame = std::make_unique<Frame>(*job.scene, job.samples);
+    out->frame = std::make_unique<Frame>(*out->scene, job.samples);
     out->frame_ms = elapsed_ms(start);
     for (size_t m = 0; m < job.methods.size(); ++m)
       out->results.push_back(out->frame->run(*job.methods[m], job.options[m], false));

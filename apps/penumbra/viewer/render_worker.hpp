@@ -14,13 +14,17 @@
 
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/report/report_images.hpp"
+#include "view_state.hpp"
 
 namespace penumbra::viewer {
 
 struct RenderJob {
-  uint64_t generation = 0;             // the ViewState generation it renders
-  bool preview = false;                // a reduced resolution, while the user drags
-  std::shared_ptr<const Scene> scene;  // the edited scene at the job's resolution
+  uint64_t generation = 0;  // the ViewState generation it renders
+  bool preview = false;     // a reduced resolution, while the user drags
+  // The scene is edited on the worker (a copy of every mesh: not on the UI thread).
+  std::shared_ptr<const Scene> base;
+  std::vector<LightEdit> lights;
+  Camera camera;  // at the job's resolution
   LightSampleSpec samples;
   std::vector<const MethodInfo*> methods;  // one, or two for the split view
   std::vector<MethodOptions> options;
@@ -32,9 +36,11 @@ struct RenderJob {
 /// points to.
 struct RenderOutput {
   RenderJob job;
+  std::shared_ptr<const Scene> scene;  // the edited scene the frame renders
   std::unique_ptr<Frame> frame;
   std::vector<MethodResult> results;      // one per job method
   std::vector<report::Rgb8Image> beauty;  // sRGB, one per job method (when job.shade)
+  double scene_ms = 0.0;                  // the edited scene: copied and validated
   double frame_ms = 0.0;                  // BVH, G-buffer, receiver classes
   double shade_ms = 0.0;                  // unshadowed irradiance and beauty pictures
   std::string error;                      // a failed job: its one-line message, nothing else set

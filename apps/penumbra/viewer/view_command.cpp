@@ -60,6 +60,8 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--settle-ms", args->viewer.settle_ms,
                   "Milliseconds without an edit after which the full-size frame is computed")
       ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_flag("--trace", args->viewer.trace,
+                "Print one line per frame shown: where its time went, and its latency");
   add_framing_options(*cmd, args->framing);
   cmd->callback([args] { run_view(*args); });
 }

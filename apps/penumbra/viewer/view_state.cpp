@@ -112,13 +112,11 @@ ViewState::ViewState(const Scene& scene, std::string method_name, const LightSam
   for (const Light& l : scene.lights) lights.push_back({l.center, 1.0f, l.shape, 1.0f});
 }
 
-Scene edited_scene(const Scene& base, const ViewState& state, int width, int height) {
+Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera) {
   Scene scene = base;
-  for (size_t l = 0; l < scene.lights.size() && l < state.lights.size(); ++l)
-    scene.lights[l] = edited_light(base.lights[l], state.lights[l]);
-  scene.camera = state.camera.camera();
-  scene.camera.width = width;
-  scene.camera.height = height;
+  for (size_t l = 0; l < scene.lights.size() && l < lights.size(); ++l)
+    scene.lights[l] = edited_light(base.lights[l], lights[l]);
+  scene.camera = camera;
   validate_scene(scene);
   return scene;
 }

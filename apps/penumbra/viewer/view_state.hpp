@@ -61,8 +61,8 @@ struct ViewState {
   void changed() { ++generation; }
 };
 
-/// `base` with the state's lights and camera, at width × height (validated: throws Error for an
-/// edit the scene format would refuse).
-Scene edited_scene(const Scene& base, const ViewState& state, int width, int height);
+/// `base` with `lights` edited and `camera` (validated: throws Error for an edit the scene format
+/// would refuse).
+Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera);
 
 }  // namespace penumbra::viewer

@@ -61,18 +61,21 @@ std::string LatencyLog::summary() const {
 
 Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script)
     : args_(args),
-      base_(std::move(scene)),
-      state_(base_, args.method, LightSampleSpec{}),
+      base_(std::make_shared<const Scene>(std::move(scene))),
+      state_(*base_, args.method, LightSampleSpec{}),
       window_(
-          base_.camera.width * initial_scale(base_.camera.width, base_.camera.height) + kPanelWidth,
+          base_->camera.width * initial_scale(base_->camera.width, base_->camera.height) +
+              kPanelWidth,
           std::max(kMinWindowHeight,
-                   base_.camera.height * initial_scale(base_.camera.width, base_.camera.height)),
-          "penumbra view: " + base_.name),
+                   base_->camera.height * initial_scale(base_->camera.width, base_->camera.height)),
+          "penumbra view: " + base_->name),
       preview_worker_(GlWindow::wake, false),
       full_worker_(GlWindow::wake, true),
       reference_worker_(GlWindow::wake, true),
       script_(std::move(script)) {
   state_.options = args.options;
+  const Bounds3 bounds = base_->bounds();
+  scene_diagonal_ = glm::length(bounds.hi - bounds.lo);
   state_.samples.k = args.samples;
   state_.samples.seed = args.seed;
   state_.samples.pattern = *parse_sample_pattern(args.pattern);
@@ -100,7 +103,11 @@ RenderJob Viewer::make_job(bool preview, bool reference) const {
     w = std::max(1, (w + d - 1) / d);
     h = std::max(1, (h + d - 1) / d);
   }
-  job.scene = std::make_shared<const Scene>(edited_scene(base_, state_, w, h));
+  job.base = base_;
+  job.lights = state_.lights;
+  job.camera = state_.camera.camera();
+  job.camera.width = w;
+  job.camera.height = h;
   job.samples = state_.samples;
   std::vector<std::string> names{state_.method};
   if (reference) {
@@ -163,8 +170,22 @@ void Viewer::accept(std::shared_ptr<RenderOutput> out, bool reference) {
                (job.generation == slot->job.generation && job.preview && !slot->job.preview)))
     return;
   if (!reference) latency_.shown(job.generation, job.preview);
+  if (args_.trace) trace(*out, reference);
   slot = std::move(out);
   picture_dirty_ = true;
+}
+
+void Viewer::trace(const RenderOutput& out, bool reference) const {
+  double method_ms = 0.0;
+  for (const MethodResult& r : out.results) method_ms += r.total_ms;
+  std::fprintf(stderr,
+               "view: %s generation %llu, %s %dx%d: scene %.1f + frame %.1f + %s %.1f + shading "
+               "%.1f ms; shown %.1f ms after its job was submitted\n",
+               reference ? "reference" : "frame",
+               static_cast<unsigned long long>(out.job.generation),
+               out.job.preview ? "preview" : "full", out.job.camera.width, out.job.camera.height,
+               out.scene_ms, out.frame_ms, out.results.front().method.c_str(), method_ms,
+               out.shade_ms, ms_between(out.job.submitted, Clock::now()));
 }
 
 void Viewer::collect() {
@@ -196,7 +217,7 @@ void Viewer::save_visibility(const std::filesystem::path& path) const {
 }
 
 void Viewer::save_scene(const std::filesystem::path& path) const {
-  write_scene_file(*shown_->job.scene, path);
+  write_scene_file(*shown_->scene, path);
 }
 
 void Viewer::run() {
@@ -222,8 +243,10 @@ void Viewer::run() {
     draw_panel();
     window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);
     screenshot_.reset();
-    latency_.longest_ui_frame_ms =
-        std::max(latency_.longest_ui_frame_ms, ms_between(frame_start, Clock::now()));
+    // The first frames build ImGui's font atlas and compile its shaders: not a stall.
+    if (++ui_frames_ > 2)
+      latency_.longest_ui_frame_ms =
+          std::max(latency_.longest_ui_frame_ms, ms_between(frame_start, Clock::now()));
   }
   if (!args_.script.empty()) std::fprintf(stderr, "%s\n", latency_.summary().c_str());
 }

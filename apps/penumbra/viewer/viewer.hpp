@@ -31,6 +31,7 @@ struct ViewerArgs {
   std::string script;                                                 // its path, for messages
   int preview_divisor = 4;
   double settle_ms = 200.0;
+  bool trace = false;  // one line on stderr per frame shown: where its time went
 };
 
 /// Opens the window and runs until it is closed (or the script, already read and checked, ends).
@@ -66,6 +67,7 @@ class Viewer {
   RenderJob make_job(bool preview, bool reference) const;
   void collect();
   void accept(std::shared_ptr<RenderOutput> out, bool reference);
+  void trace(const RenderOutput& out, bool reference) const;
   bool frame_is_final() const;
   void edited();
   void refresh_picture();
@@ -89,7 +91,8 @@ class Viewer {
   void save_scene(const std::filesystem::path& path) const;
 
   ViewerArgs args_;
-  Scene base_;
+  std::shared_ptr<const Scene> base_;  // as loaded; every job edits a copy
+  float scene_diagonal_ = 1.0f;
   ViewState state_;
   ViewMode mode_ = ViewMode::beauty;
   std::string split_[2];
@@ -116,6 +119,7 @@ class Viewer {
   std::optional<std::filesystem::path> screenshot_;
   LatencyLog latency_;
   bool quit_ = false;
+  long ui_frames_ = 0;
   char file_stem_[256] = "penumbra_view";
 };
 
