@@ -107,6 +107,11 @@ void Viewer::draw_panel() {
   files_panel();
   ImGui::PopItemWidth();
   ImGui::End();
+}
+
+void Viewer::draw_image() {
+  int width = 0, height = 0;
+  window_.framebuffer_size(width, height);
   image_rect_ =
       window_.draw_image(static_cast<float>(width) - kPanelWidth, static_cast<float>(height));
 }
@@ -195,7 +200,7 @@ void Viewer::view_panel() {
   for (ViewMode m : {ViewMode::beauty, ViewMode::visibility, ViewMode::error,
                      ViewMode::signed_error, ViewMode::split}) {
     if (ImGui::RadioButton(to_string(m), mode_ == m)) mode_ = m;
-    if (m != ViewMode::split) ImGui::SameLine();
+    if (m != ViewMode::error && m != ViewMode::split) ImGui::SameLine();
   }
   bool split_changed = false;
   if (mode_ == ViewMode::split)
@@ -224,25 +229,27 @@ void Viewer::stats_panel() {
     return;
   }
   const RenderOutput& s = *shown_;
-  const MethodResult& r = s.results.front();
   const bool current = s.job.generation == state_.generation;
-  ImGui::Text("%s  %.1f ms", r.method.c_str(), r.total_ms);
+  for (const MethodResult& r : s.results)
+    ImGui::Text("%-14s %9.1f ms", r.method.c_str(), r.total_ms);
   ImGui::Text("%dx%d %s%s, K=%d", s.job.camera.width, s.job.camera.height,
               s.job.preview ? "preview" : "full", current ? "" : " (computing)", s.job.samples.k);
-  ImGui::Text("frame %.1f ms, shading %.1f ms, shown %.0f ms after the edit", s.frame_ms,
-              s.shade_ms,
+  ImGui::Text("scene %.0f + frame %.0f + shading %.0f ms", s.scene_ms, s.frame_ms, s.shade_ms);
+  ImGui::Text("latency %.0f ms (edit to shown)",
               std::chrono::duration<double, std::milli>(s.finished - s.job.submitted).count());
   if (picture_info_.error)
     ImGui::Text("vs exact: mean %.2e  max %.3f  rmse %.2e", picture_info_.error->mean_abs,
                 picture_info_.error->max_abs, picture_info_.error->rmse);
   if (!ImGui::CollapsingHeader("Stages and counters")) return;
-  for (size_t l = 0; l < r.per_light.size(); ++l) {
-    const Visibility& v = r.per_light[l];
-    if (r.per_light.size() > 1) ImGui::Text("light %zu", l);
-    for (const auto& [stage, ms] : v.times.stages())
-      ImGui::Text("  %-24s %9.2f ms", stage.c_str(), ms);
-    for (const auto& [name, value] : v.counters) ImGui::Text("  %-24s %12.6g", name.c_str(), value);
-  }
+  for (const MethodResult& r : s.results)
+    for (size_t l = 0; l < r.per_light.size(); ++l) {
+      const Visibility& v = r.per_light[l];
+      ImGui::TextDisabled("%s, light %zu", r.method.c_str(), l);
+      for (const auto& [stage, ms] : v.times.stages())
+        ImGui::Text("  %-24s %9.2f ms", stage.c_str(), ms);
+      for (const auto& [name, value] : v.counters)
+        ImGui::Text("  %-24s %12.6g", name.c_str(), value);
+    }
 }
 
 void Viewer::files_panel() {

@@ -1,5 +1,7 @@
 #include "viewer.hpp"
 
+#include <imgui.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <thread>
@@ -14,7 +16,7 @@ namespace penumbra::viewer {
 namespace {
 
 constexpr int kPanelWidth = 380;
-constexpr int kMinWindowHeight = 640;
+constexpr int kMinWindowHeight = 720;
 
 /// Small images are shown enlarged: at least 512 pixels on their longer side.
 int initial_scale(int width, int height) {
@@ -73,6 +75,8 @@ Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> s
       full_worker_(GlWindow::wake, true),
       reference_worker_(GlWindow::wake, true),
       script_(std::move(script)) {
+  // A script's run ignores the pointer (wherever the display put it: no tooltip, no drag).
+  if (!args.script.empty()) ImGui::GetIO().ConfigFlags |= ImGuiConfigFlags_NoMouse;
   state_.options = args.options;
   const Bounds3 bounds = base_->bounds();
   scene_diagonal_ = glm::length(bounds.hi - bounds.lo);
@@ -239,6 +243,7 @@ void Viewer::run() {
     schedule();
     refresh_picture();
     window_.begin_frame();
+    draw_image();  // first: the gizmo and the panel are drawn over it
     handle_mouse();
     draw_panel();
     window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);

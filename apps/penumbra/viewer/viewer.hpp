@@ -73,6 +73,7 @@ class Viewer {
   void refresh_picture();
   // panel.cpp
   void draw_panel();
+  void draw_image();
   void method_panel();
   void option_widgets();
   void light_panel();
@@ -108,6 +109,7 @@ class Viewer {
   PictureInfo picture_info_;
   ImageRect image_rect_;      // where the image is drawn in the window
   int drag_button_ = -1;      // the mouse button whose drag began on the image
+  bool drag_light_ = false;   // that drag moves the light
   std::string option_error_;  // why the last option edit was refused
   std::string status_;        // the last file written by a panel button, or why not
   uint64_t job_error_generation_ = 0;
