@@ -48,16 +48,16 @@ std::string LatencyLog::summary() const {
     }
   char line[256];
   if (ms.empty()) {
-    std::snprintf(line, sizeof line, "view: no edits; longest UI frame %.1f ms",
-                  longest_ui_frame_ms);
+    std::snprintf(line, sizeof line, "view: no edits; %ld UI frames, mean %.1f ms, longest %.1f ms",
+                  ui_frames, ui_frames_ms / std::max(ui_frames, 1L), longest_ui_frame_ms);
     return line;
   }
   std::sort(ms.begin(), ms.end());
   std::snprintf(line, sizeof line,
                 "view: %zu edits, first frame showing each: median %.1f ms, p90 %.1f ms, max "
-                "%.1f ms (%d of them previews); longest UI frame %.1f ms",
+                "%.1f ms (%d of them previews); %ld UI frames, mean %.1f ms, longest %.1f ms",
                 ms.size(), ms[ms.size() / 2], ms[ms.size() * 9 / 10], ms.back(), previews,
-                longest_ui_frame_ms);
+                ui_frames, ui_frames_ms / std::max(ui_frames, 1L), longest_ui_frame_ms);
   return line;
 }
 
@@ -227,15 +227,21 @@ void Viewer::save_scene(const std::filesystem::path& path) const {
 void Viewer::run() {
   auto frame_start = Clock::now();
   while (!quit_ && !window_.should_close()) {
-    // Scripts run flat out (a frame every 5 ms at most); a person's window sleeps until an
-    // event, a worker's result or the end of the settle time after an edit.
-    const double since_edit = ms_between(last_edit_, Clock::now());
+    // The window sleeps until an event, a worker's result (it wakes the loop), the end of the
+    // settle time after an edit, or a script's next command: no frame is drawn for nothing
+    // (under a software OpenGL every frame costs the workers CPU time).
+    const auto now = Clock::now();
     double timeout_s = 0.5;
-    if (!args_.script.empty())
-      timeout_s = 0.005;
-    else if (since_edit < args_.settle_ms)
+    if (!args_.script.empty()) {
+      if (sleep_until_ != Clock::time_point{})
+        timeout_s = ms_between(now, sleep_until_) / 1000.0;
+      else if (!script_waiting_ || frame_is_final())
+        timeout_s = 0.0;
+    } else if (const double since_edit = ms_between(last_edit_, now);
+               since_edit < args_.settle_ms) {
       timeout_s = (args_.settle_ms - since_edit) / 1000.0;
-    window_.wait_events(std::max(timeout_s, 0.001));
+    }
+    window_.wait_events(std::max(timeout_s, 0.0));
     frame_start = Clock::now();
     collect();
     step_script();
@@ -249,9 +255,7 @@ void Viewer::run() {
     window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);
     screenshot_.reset();
     // The first frames build ImGui's font atlas and compile its shaders: not a stall.
-    if (++ui_frames_ > 2)
-      latency_.longest_ui_frame_ms =
-          std::max(latency_.longest_ui_frame_ms, ms_between(frame_start, Clock::now()));
+    if (++ui_frames_ > 2) latency_.ui_frame(ms_between(frame_start, Clock::now()));
   }
   if (!args_.script.empty()) std::fprintf(stderr, "%s\n", latency_.summary().c_str());
 }

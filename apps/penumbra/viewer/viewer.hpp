@@ -4,6 +4,7 @@
 // its parts.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -49,7 +50,13 @@ struct LatencyLog {
     bool preview = false;          // the first frame showing it was a preview
   };
   std::vector<Edit> edits;
-  double longest_ui_frame_ms = 0.0;
+  double longest_ui_frame_ms = 0.0, ui_frames_ms = 0.0;
+  long ui_frames = 0;
+  void ui_frame(double ms) {
+    longest_ui_frame_ms = std::max(longest_ui_frame_ms, ms);
+    ui_frames_ms += ms;
+    ++ui_frames;
+  }
   void edited(uint64_t generation) { edits.push_back({generation, Clock::now()}); }
   void shown(uint64_t generation, bool preview);
   std::string summary() const;
