@@ -191,7 +191,11 @@ void Viewer::light_panel() {
     changed = true;
   }
   if (changed) edited();
-  ImGui::TextDisabled("drag: orbit  right/shift: pan  wheel: zoom  ctrl: light");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped(
+      "On the image: drag to orbit, right-drag (or shift-drag) to pan, the wheel to zoom; drag "
+      "the light's circle (or ctrl-drag) to move the light.");
+  ImGui::PopStyleColor();
 }
 
 void Viewer::view_panel() {
