@@ -10,6 +10,11 @@
 
 namespace penumbra::viewer {
 
+std::shared_ptr<const EmbreeScene> SharedBvh::of(const Scene& scene) {
+  std::call_once(once, [&] { bvh = std::make_shared<const EmbreeScene>(scene); });
+  return bvh;
+}
+
 RenderWorker::RenderWorker(std::function<void()> notify, bool low_priority)
     : notify_(std::move(notify)), low_priority_(low_priority), thread_([this] { loop(); }) {}
 
@@ -73,7 +78,7 @@ std::shared_ptr<RenderOutput> RenderWorker::run(const RenderJob& job) const {
     out->scene = std::make_shared<const Scene>(edited_scene(*job.base, job.lights, job.camera));
     out->scene_ms = elapsed_ms(scene_start);
     const auto start = std::chrono::steady_clock::now();
-    out->frame = std::make_unique<Frame>(*out->scene, job.samples);
+    out->frame = std::make_unique<Frame>(*out->scene, job.samples, job.bvh->of(*job.base));
     out->frame_ms = elapsed_ms(start);
     for (size_t m = 0; m < job.methods.size(); ++m)
       out->results.push_back(out->frame->run(*job.methods[m], job.options[m], false));

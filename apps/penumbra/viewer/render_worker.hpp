@@ -18,11 +18,21 @@
 
 namespace penumbra::viewer {
 
+/// The scene's BVH, built by whichever worker needs it first and shared by every frame after: the
+/// viewer's edits change lights and camera, never the meshes.
+struct SharedBvh {
+  std::once_flag once;
+  std::shared_ptr<const EmbreeScene> bvh;
+  /// The BVH of `scene` (built on the first call; a failed build is tried again next time).
+  std::shared_ptr<const EmbreeScene> of(const Scene& scene);
+};
+
 struct RenderJob {
   uint64_t generation = 0;  // the ViewState generation it renders
   bool preview = false;     // a reduced resolution, while the user drags
   // The scene is edited on the worker (a copy of every mesh: not on the UI thread).
   std::shared_ptr<const Scene> base;
+  std::shared_ptr<SharedBvh> bvh;  // of `base`
   std::vector<LightEdit> lights;
   Camera camera;  // at the job's resolution
   LightSampleSpec samples;
@@ -41,7 +51,7 @@ struct RenderOutput {
   std::vector<MethodResult> results;      // one per job method
   std::vector<report::Rgb8Image> beauty;  // sRGB, one per job method (when job.shade)
   double scene_ms = 0.0;                  // the edited scene: copied and validated
-  double frame_ms = 0.0;                  // BVH, G-buffer, receiver classes
+  double frame_ms = 0.0;                  // G-buffer, receiver classes (and the first job's BVH)
   double shade_ms = 0.0;                  // unshadowed irradiance and beauty pictures
   std::string error;                      // a failed job: its one-line message, nothing else set
   std::chrono::steady_clock::time_point finished;

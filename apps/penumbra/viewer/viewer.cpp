@@ -108,6 +108,7 @@ RenderJob Viewer::make_job(bool preview, bool reference) const {
     h = std::max(1, (h + d - 1) / d);
   }
   job.base = base_;
+  job.bvh = bvh_;
   job.lights = state_.lights;
   job.camera = state_.camera.camera();
   job.camera.width = w;

@@ -100,6 +100,7 @@ class Viewer {
 
   ViewerArgs args_;
   std::shared_ptr<const Scene> base_;  // as loaded; every job edits a copy
+  std::shared_ptr<SharedBvh> bvh_ = std::make_shared<SharedBvh>();
   float scene_diagonal_ = 1.0f;
   ViewState state_;
   ViewMode mode_ = ViewMode::beauty;
