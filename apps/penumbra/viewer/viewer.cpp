@@ -253,7 +253,13 @@ void Viewer::run() {
     draw_image();  // first: the gizmo and the panel are drawn over it
     handle_mouse();
     draw_panel();
-    window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);
+    try {
+      window_.end_frame(screenshot_ ? &*screenshot_ : nullptr);
+    } catch (const Error& e) {    // the screenshot could not be written
+      if (!args_.script.empty())  // the command that asked for it is the last one run
+        throw Error(script_location(args_.script, script_[script_next_ - 1]) + e.what());
+      status_ = e.what();
+    }
     screenshot_.reset();
     // The first frames build ImGui's font atlas and compile its shaders: not a stall.
     if (++ui_frames_ > 2) latency_.ui_frame(ms_between(frame_start, Clock::now()));
