@@ -85,10 +85,6 @@ void GlWindow::begin_frame() {
   ImGui::NewFrame();
 }
 
-void GlWindow::framebuffer_size(int& width, int& height) const {
-  glfwGetFramebufferSize(window_, &width, &height);
-}
-
 void GlWindow::set_image(const report::Rgb8Image& picture) {
   glBindTexture(GL_TEXTURE_2D, texture_);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);

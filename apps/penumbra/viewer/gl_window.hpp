@@ -42,7 +42,6 @@ class GlWindow {
   /// The image drawn at the largest integer scale that fits `area` (or scaled down to fit), at
   /// its top-left corner, on the window's background.
   ImageRect draw_image(float area_width, float area_height) const;
-  void framebuffer_size(int& width, int& height) const;
 
  private:
   GLFWwindow* window_ = nullptr;

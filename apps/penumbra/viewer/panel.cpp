@@ -93,10 +93,10 @@ void Viewer::choose_method(const std::string& name) {
 }
 
 void Viewer::draw_panel() {
-  int width = 0, height = 0;
-  window_.framebuffer_size(width, height);
-  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - kPanelWidth, 0.0f));
-  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(height)));
+  // In ImGui's units, the window's (the framebuffer's pixels differ on a scaled display).
+  const ImVec2 size = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(size.x - kPanelWidth, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, size.y));
   ImGui::Begin("Penumbra", nullptr,
                ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImGui::PushItemWidth(200.0f);
@@ -110,10 +110,8 @@ void Viewer::draw_panel() {
 }
 
 void Viewer::draw_image() {
-  int width = 0, height = 0;
-  window_.framebuffer_size(width, height);
-  image_rect_ =
-      window_.draw_image(static_cast<float>(width) - kPanelWidth, static_cast<float>(height));
+  const ImVec2 size = ImGui::GetIO().DisplaySize;
+  image_rect_ = window_.draw_image(size.x - kPanelWidth, size.y);
 }
 
 void Viewer::method_panel() {
