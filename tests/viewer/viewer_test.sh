@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `penumbra view` end to end, under Xvfb with Mesa's software OpenGL (64² frames, K = 4: seconds):
-#  - after light and camera edits and `wait`, save_visibility equals `penumbra render` of the
-#    save_scene file, same method and samples (max |ΔV| <= 1e-6), for exact, gears and pcss;
+#  - after light (centre, size, shape, radiance) and camera edits and `wait`, save_visibility
+#    equals `penumbra render` of the save_scene file, same method and samples (max |ΔV| <= 1e-6),
+#    for exact, gears and pcss;
 #  - in the visibility view the image shows V exactly, two light positions' screenshots differ
 #    where V changed and only there, and the panel beside the image is drawn;
 #  - the error, signed-error and split views and `set` run; bad input is one line and exit 1.
@@ -38,12 +39,16 @@ max_abs() {  # max_abs A.exr B.exr: compare's max |ΔV|
     sed -n 's/.*"max_abs": \([^,]*\),.*/\1/p' "cmp_$(basename "$1" .exr)/compare.json"
 }
 
-# 1. The saved visibility is what `render` computes from the saved scene.
+# 1. The saved visibility is what `render` computes from the saved scene (each method with another
+#    light shape: a change of shape is written to the scene too).
+declare -A shape=([exact]=sphere [gears]=disk [pcss]=rect)
 for method in exact gears pcss; do
   cat >"edit_$method.txt" <<SCRIPT
 camera_orbit 25 10
 light_center 0.25 2.1 -0.15
 light_scale 0.7
+light_shape ${shape[$method]}
+light_radiance 2
 wait
 save_visibility view_$method.exr
 save_scene scene_$method.json

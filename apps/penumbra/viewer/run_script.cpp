@@ -61,6 +61,14 @@ bool Viewer::run_command(const ScriptCommand& c) {
       light.scale = static_cast<float>(c.numbers[0]);
       edited();
       return true;
+    case ScriptOp::light_shape:
+      light.shape = *parse_light_shape(c.words[0]);
+      edited();
+      return true;
+    case ScriptOp::light_radiance:
+      light.intensity = static_cast<float>(c.numbers[0]);
+      edited();
+      return true;
     case ScriptOp::camera_orbit:
       state_.camera.orbit(static_cast<float>(c.numbers[0]), static_cast<float>(c.numbers[1]));
       edited();

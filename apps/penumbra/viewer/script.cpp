@@ -26,6 +26,8 @@ const std::map<std::string, Syntax>& syntax() {
       {"set", {ScriptOp::set, 1, 1, 0, "set KEY=VALUE"}},
       {"light_center", {ScriptOp::light_center, 3, 3, 3, "light_center X Y Z"}},
       {"light_scale", {ScriptOp::light_scale, 1, 1, 1, "light_scale S"}},
+      {"light_shape", {ScriptOp::light_shape, 1, 1, 0, "light_shape point|rect|disk|sphere"}},
+      {"light_radiance", {ScriptOp::light_radiance, 1, 1, 1, "light_radiance S"}},
       {"camera_orbit",
        {ScriptOp::camera_orbit, 2, 2, 2, "camera_orbit DAZIMUTH_DEG DELEVATION_DEG"}},
       {"view", {ScriptOp::view, 1, 3, 0, "view beauty|visibility|error|signed_error|split A B"}},
@@ -80,8 +82,11 @@ ScriptCommand parse_line(const std::string& text, int line, const std::string& w
   if (c.op == ScriptOp::view) check_view(c, where);
   if (c.op == ScriptOp::set && c.words[0].find('=') == std::string::npos)
     throw Error(where + "expected: set KEY=VALUE, got " + quote(c.words[0]));
-  if (c.op == ScriptOp::light_scale && !(c.numbers[0] > 0.0))
-    throw Error(where + "light_scale must be > 0");
+  if ((c.op == ScriptOp::light_scale || c.op == ScriptOp::light_radiance) && !(c.numbers[0] > 0.0))
+    throw Error(where + c.words[0] + ": must be > 0");
+  if (c.op == ScriptOp::light_shape && !parse_light_shape(c.words[0]))
+    throw Error(where + "unknown light shape " + quote(c.words[0]) +
+                " (point, rect, disk, sphere)");
   if (c.op == ScriptOp::sleep && (c.numbers[0] < 0.0 || c.numbers[0] > 600000.0))
     throw Error(where + "sleep takes 0 to 600000 milliseconds");
   return c;
@@ -102,6 +107,12 @@ std::vector<ScriptCommand> read_script(const std::filesystem::path& path) {
         parse_line(text, line, quote(path.string(), 200) + ":" + std::to_string(line) + ": "));
   }
   return out;
+}
+
+std::optional<LightShape> parse_light_shape(const std::string& name) {
+  for (LightShape s : {LightShape::point, LightShape::rect, LightShape::disk, LightShape::sphere})
+    if (name == to_string(s)) return s;
+  return std::nullopt;
 }
 
 std::string script_location(const std::filesystem::path& path, const ScriptCommand& command) {
