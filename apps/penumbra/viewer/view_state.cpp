@@ -69,11 +69,12 @@ Light edited_light(const Light& base, const LightEdit& edit) {
   Light l = base;
   l.center = edit.center;
   l.radiance = base.radiance * edit.intensity;
-  // The direction the light emits toward, and its area, whatever its shape.
+  // The direction the light emits toward, and the area it shows a receiver (a sphere its
+  // silhouette disk's, not its surface's), whatever its shape.
   Vec3 normal = base.normal;
   float area = base.area();
   if (base.shape == LightShape::rect) normal = glm::normalize(glm::cross(base.edge_u, base.edge_v));
-  if (base.shape == LightShape::point) area = 0.0f;
+  if (base.shape == LightShape::sphere) area = static_cast<float>(kPi) * base.radius * base.radius;
   const float s = edit.scale;
   l.shape = edit.shape;
   if (edit.shape == base.shape) {
@@ -82,7 +83,7 @@ Light edited_light(const Light& base, const LightEdit& edit) {
     l.radius = base.radius * s;
     return l;
   }
-  const float side = area > 0.0f ? std::sqrt(area) : 0.1f;
+  const float side = area > 0.0f ? std::sqrt(area) : 0.1f;  // a point light: any small size
   switch (edit.shape) {
     case LightShape::rect: {
       const Vec3 u = any_normal(normal);

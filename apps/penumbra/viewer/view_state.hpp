@@ -44,8 +44,9 @@ struct LightEdit {
   float intensity = 1.0f;  // radiance times this
 };
 
-/// The scene's light with `edit` applied. A change of shape keeps the emitting area (a disk of
-/// radius r and a square of side r·√π) and the direction it emits toward.
+/// The scene's light with `edit` applied. A change of shape keeps the area the light shows a
+/// receiver (a disk or sphere of radius r, a square of side r·√π) and the direction it emits
+/// toward.
 Light edited_light(const Light& base, const LightEdit& edit);
 
 struct ViewState {
