@@ -90,7 +90,26 @@ else
   fail "the light-move script failed: $(cat moves.log)"
 fi
 
-# 3. The other views, an option, a method switch.
+# 3. A drag: moves 20 ms apart are shown as previews (16² frames), the frame after `wait` is the
+#    full one of the last position, whatever previews were still running.
+awk 'BEGIN { print "wait"; for (i = 0; i < 12; i++) printf "light_center %.2f 2 0\nsleep 20\n", -0.6 + 0.1 * i;
+             print "wait"; print "save_visibility drag.exr"; print "save_scene drag.json" }' >drag.txt
+if view drag.log --scene quad --method gears --script drag.txt; then
+  previews="$(sed -n 's/.*(\([0-9]*\) of them previews).*/\1/p' drag.log)"
+  echo "drag: $previews of 12 moves first shown by a preview"
+  [ -n "$previews" ] && [ "$previews" -ge 1 ] || fail "no preview during the drag: $(cat drag.log)"
+  "$bin" render --scene drag.json --method gears --samples 4 --out render_drag >render_drag.log 2>&1 ||
+    fail "render of the dragged scene failed: $(cat render_drag.log)"
+  d="$(max_abs drag.exr render_drag/visibility.exr)"
+  echo "drag: max |V_view - V_render| = $d"
+  awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 1e-6) }' || fail "drag: max |dV| = '$d' > 1e-6"
+  tr -d ' \n' <drag.json | grep -q '"lights":\[{"center":\[0.5,2.0,0.0\]' ||
+    fail "the saved scene's light is not at the last position"
+else
+  fail "the drag script failed: $(cat drag.log)"
+fi
+
+# 4. The other views, an option, a method switch.
 cat >views.txt <<'SCRIPT'
 method pcss
 set pcss.blocker_samples=8
@@ -107,7 +126,7 @@ view views.log --scene quad --method gears --script views.txt ||
   fail "the views script failed: $(cat views.log)"
 grep -q "first frame showing each" views.log || fail "no latency summary: $(cat views.log)"
 
-# 4. Bad input: one line, exit 1.
+# 5. Bad input: one line, exit 1.
 expect_error() {  # expect_error PATTERN LOG: exit 1 and one 'penumbra: error:' line matching
   local code="$1" pattern="$2" log="$3"
   if [ "$code" -ne 1 ] || [ "$(wc -l <"$log")" -ne 1 ] || ! grep -q "penumbra: error: .*$pattern" "$log"; then
