@@ -95,18 +95,17 @@ void GlWindow::set_image(const report::Rgb8Image& picture) {
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, picture.width(), picture.height(), 0, GL_RGB,
                GL_UNSIGNED_BYTE, picture.data());
-  tex_width_ = picture.width();
-  tex_height_ = picture.height();
+  has_image_ = true;
 }
 
-ImageRect GlWindow::draw_image(float area_width, float area_height) const {
+ImageRect GlWindow::draw_image(float area_width, float area_height, int width, int height) const {
   ImageRect r;
-  if (tex_width_ <= 0 || tex_height_ <= 0 || area_width <= 0 || area_height <= 0) return r;
-  const float fit = std::min(area_width / static_cast<float>(tex_width_),
-                             area_height / static_cast<float>(tex_height_));
+  if (!has_image_ || width <= 0 || height <= 0 || area_width <= 0 || area_height <= 0) return r;
+  const float fit =
+      std::min(area_width / static_cast<float>(width), area_height / static_cast<float>(height));
   const float scale = fit >= 1.0f ? std::floor(fit) : fit;
-  r.width = static_cast<float>(tex_width_) * scale;
-  r.height = static_cast<float>(tex_height_) * scale;
+  r.width = static_cast<float>(width) * scale;
+  r.height = static_cast<float>(height) * scale;
   ImGui::GetBackgroundDrawList()->AddImage(
       reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture_)), ImVec2(r.x, r.y),
       ImVec2(r.x + r.width, r.y + r.height));

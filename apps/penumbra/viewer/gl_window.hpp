@@ -37,16 +37,15 @@ class GlWindow {
 
   /// Replaces the image's texture (sRGB bytes, row 0 at the top).
   void set_image(const report::Rgb8Image& picture);
-  int image_width() const { return tex_width_; }
-  int image_height() const { return tex_height_; }
-  /// The image drawn at the largest integer scale that fits `area` (or scaled down to fit), at
-  /// its top-left corner, on the window's background.
-  ImageRect draw_image(float area_width, float area_height) const;
+  /// The image drawn as if it had width × height pixels (the full resolution: a preview's smaller
+  /// texture is stretched over the same rectangle, so the picture does not jump), at the largest
+  /// integer scale that fits `area` (or scaled down to fit), at the area's top-left corner.
+  ImageRect draw_image(float area_width, float area_height, int width, int height) const;
 
  private:
   GLFWwindow* window_ = nullptr;
   unsigned int texture_ = 0;
-  int tex_width_ = 0, tex_height_ = 0;
+  bool has_image_ = false;
 };
 
 }  // namespace penumbra::viewer

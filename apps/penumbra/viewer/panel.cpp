@@ -111,7 +111,7 @@ void Viewer::draw_panel() {
 
 void Viewer::draw_image() {
   const ImVec2 size = ImGui::GetIO().DisplaySize;
-  image_rect_ = window_.draw_image(size.x - kPanelWidth, size.y);
+  image_rect_ = window_.draw_image(size.x - kPanelWidth, size.y, state_.width, state_.height);
 }
 
 void Viewer::method_panel() {
