@@ -16,6 +16,9 @@ PACKAGES=(
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
   clang libclang-rt-14-dev valgrind  # scripts/fuzz.sh: libFuzzer with ASan+UBSan, valgrind replay
   chromium  # the report's browser test (tests/report/browser_test.sh)
+  # `penumbra view`: GLFW + Dear ImGui (its static library carries the GLFW and OpenGL 3 back
+  # ends); its tests run under Xvfb with Mesa's software OpenGL.
+  libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri
 )
 
 missing=()

@@ -11,5 +11,7 @@ void add_info_command(CLI::App& app);
 void add_list_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_scene_command(CLI::App& app);
+/// `view`: the interactive window (viewer/), or a command that says the build has none.
+void add_view_command(CLI::App& app);
 
 }  // namespace penumbra::cli

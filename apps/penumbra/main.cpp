@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   penumbra::cli::add_list_command(app);
   penumbra::cli::add_report_command(app);
   penumbra::cli::add_scene_command(app);
+  penumbra::cli::add_view_command(app);
   try {
     penumbra::simd::configure_from_environment();
     app.parse(argc, argv);  // runs the chosen subcommand's callback

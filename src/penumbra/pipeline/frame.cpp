@@ -21,7 +21,15 @@ namespace penumbra {
 
 Frame::Frame(const Scene& scene, const LightSampleSpec& samples,
              const std::function<GBuffer()>& layers)
-    : scene_(&scene), embree_(std::make_unique<EmbreeScene>(scene)), samples_(samples) {
+    : Frame(scene, samples, std::make_shared<const EmbreeScene>(scene), layers) {}
+
+Frame::Frame(const Scene& scene, const LightSampleSpec& samples,
+             std::shared_ptr<const EmbreeScene> embree)
+    : Frame(scene, samples, std::move(embree), {}) {}
+
+Frame::Frame(const Scene& scene, const LightSampleSpec& samples,
+             std::shared_ptr<const EmbreeScene> embree, const std::function<GBuffer()>& layers)
+    : scene_(&scene), embree_(std::move(embree)), samples_(samples) {
   const auto start = std::chrono::steady_clock::now();
   gbuffer_ = render_gbuffer(*embree_, scene.camera, layers ? layers() : GBuffer{});
   gbuffer_ms_ = elapsed_ms(start);

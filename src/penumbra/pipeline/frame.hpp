@@ -35,6 +35,10 @@ class Frame {
   /// wait for it, not its allocation).
   Frame(const Scene& scene, const LightSampleSpec& samples,
         const std::function<GBuffer()>& layers = {});
+  /// The same on a BVH built before from a scene with the same meshes and materials (only the
+  /// lights or the camera differ, as in `penumbra view`): the BVH is not built again.
+  Frame(const Scene& scene, const LightSampleSpec& samples,
+        std::shared_ptr<const EmbreeScene> embree);
   // Not movable: the background thread (start_unshadowed_in_background) holds `this`.
   Frame(Frame&&) = delete;
   Frame& operator=(Frame&&) = delete;
@@ -76,6 +80,8 @@ class Frame {
   int irradiance_background_rows() const;
 
  private:
+  Frame(const Scene& scene, const LightSampleSpec& samples,
+        std::shared_ptr<const EmbreeScene> embree, const std::function<GBuffer()>& layers);
   struct UnshadowedLight {
     std::once_flag once;
     Image<Vec3> image;
@@ -99,7 +105,7 @@ class Frame {
   void fill_unshadowed_in_background(std::chrono::steady_clock::time_point start) const;
 
   const Scene* scene_;
-  std::unique_ptr<EmbreeScene> embree_;
+  std::shared_ptr<const EmbreeScene> embree_;
   GBuffer gbuffer_;
   LightSamples samples_;
   std::vector<Image<uint8_t>> receivers_;

@@ -1,0 +1,146 @@
+#!/usr/bin/env bash
+# `penumbra view` end to end, under Xvfb with Mesa's software OpenGL (64² frames, K = 4: seconds):
+#  - after light (centre, size, shape, radiance) and camera edits and `wait`, save_visibility
+#    equals `penumbra render` of the save_scene file, same method and samples (max |ΔV| <= 1e-6),
+#    for exact, gears and pcss;
+#  - in the visibility view the image shows V exactly, two light positions' screenshots differ
+#    where V changed and only there, and the panel beside the image is drawn;
+#  - the error, signed-error and split views and `set` run; bad input is one line and exit 1.
+# Exits 77 (ctest: skipped) without xvfb-run.
+#   viewer_test.sh PENUMBRA_BINARY VIEWER_PROBE OUTPUT_DIR
+set -uo pipefail
+bin="$(realpath "$1")"
+probe="$(realpath "$2")"
+out="$3"
+if ! command -v xvfb-run >/dev/null 2>&1; then
+  echo "SKIPPED: no xvfb-run on PATH (scripts/setup.sh installs xvfb)"
+  exit 77
+fi
+rm -rf "$out"
+mkdir -p "$out"
+cd "$out" || exit 1
+export PENUMBRA_NO_PROGRESS=1 LIBGL_ALWAYS_SOFTWARE=1
+failed=0
+fail() {
+  echo "FAIL: $*"
+  failed=1
+}
+# The image (64²) is drawn 8 times enlarged at the window's top-left; the panel starts at x = 512.
+scale=8
+panel_x=512
+view() {  # view LOG ARGS...: runs the viewer on a virtual display
+  local log="$1"
+  shift
+  timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" "$bin" view --size 64x64 --samples 4 "$@" \
+    >"$log" 2>&1
+}
+max_abs() {  # max_abs A.exr B.exr: compare's max |ΔV|
+  "$bin" compare "$1" "$2" --out "cmp_$(basename "$1" .exr)" >/dev/null 2>&1 &&
+    sed -n 's/.*"max_abs": \([^,]*\),.*/\1/p' "cmp_$(basename "$1" .exr)/compare.json"
+}
+
+# 1. The saved visibility is what `render` computes from the saved scene (each method with another
+#    light shape: a change of shape is written to the scene too).
+declare -A shape=([exact]=sphere [gears]=disk [pcss]=rect)
+for method in exact gears pcss; do
+  cat >"edit_$method.txt" <<SCRIPT
+camera_orbit 25 10
+light_center 0.25 2.1 -0.15
+light_scale 0.7
+light_shape ${shape[$method]}
+light_radiance 2
+wait
+save_visibility view_$method.exr
+save_scene scene_$method.json
+SCRIPT
+  if ! view "view_$method.log" --scene quad --method "$method" --script "edit_$method.txt"; then
+    fail "$method: the viewer failed: $(cat "view_$method.log")"
+    continue
+  fi
+  if ! "$bin" render --scene "scene_$method.json" --method "$method" --samples 4 \
+    --out "render_$method" >"render_$method.log" 2>&1; then
+    fail "$method: render of the saved scene failed: $(cat "render_$method.log")"
+    continue
+  fi
+  d="$(max_abs "view_$method.exr" "render_$method/visibility.exr")"
+  echo "$method: max |V_view - V_render| = $d"
+  awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 1e-6) }' || fail "$method: max |dV| = '$d' > 1e-6"
+done
+
+# 2. Two light positions in the visibility view.
+cat >moves.txt <<'SCRIPT'
+view visibility
+light_center 0.3 2.0 0.1
+wait
+screenshot a.png
+save_visibility a.exr
+light_center -0.35 2.0 -0.3
+wait
+screenshot b.png
+save_visibility b.exr
+quit
+SCRIPT
+if view moves.log --scene quad --method gears --script moves.txt; then
+  "$probe" match a.png a.exr "$scale" || fail "the visibility view of position A is not V"
+  "$probe" match b.png b.exr "$scale" || fail "the visibility view of position B is not V"
+  "$probe" moved a.png b.png a.exr b.exr "$scale" ||
+    fail "the screenshots do not differ exactly where the shadow moved"
+  "$probe" panel a.png "$panel_x" || fail "the panel is blank"
+else
+  fail "the light-move script failed: $(cat moves.log)"
+fi
+
+# 3. A drag: moves 20 ms apart are shown as previews (16² frames), the frame after `wait` is the
+#    full one of the last position, whatever previews were still running.
+awk 'BEGIN { print "wait"; for (i = 0; i < 12; i++) printf "light_center %.2f 2 0\nsleep 20\n", -0.6 + 0.1 * i;
+             print "wait"; print "save_visibility drag.exr"; print "save_scene drag.json" }' >drag.txt
+if view drag.log --scene quad --method gears --script drag.txt; then
+  previews="$(sed -n 's/.*(\([0-9]*\) of them previews).*/\1/p' drag.log)"
+  echo "drag: $previews of 12 moves first shown by a preview"
+  [ -n "$previews" ] && [ "$previews" -ge 1 ] || fail "no preview during the drag: $(cat drag.log)"
+  "$bin" render --scene drag.json --method gears --samples 4 --out render_drag >render_drag.log 2>&1 ||
+    fail "render of the dragged scene failed: $(cat render_drag.log)"
+  d="$(max_abs drag.exr render_drag/visibility.exr)"
+  echo "drag: max |V_view - V_render| = $d"
+  awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 1e-6) }' || fail "drag: max |dV| = '$d' > 1e-6"
+  tr -d ' \n' <drag.json | grep -q '"lights":\[{"center":\[0.5,2.0,0.0\]' ||
+    fail "the saved scene's light is not at the last position"
+else
+  fail "the drag script failed: $(cat drag.log)"
+fi
+
+# 4. The other views, an option, a method switch.
+cat >views.txt <<'SCRIPT'
+method pcss
+set pcss.blocker_samples=8
+view error
+wait
+screenshot error.png
+view signed_error
+wait
+view split exact gears
+wait
+screenshot split.png
+SCRIPT
+view views.log --scene quad --method gears --script views.txt ||
+  fail "the views script failed: $(cat views.log)"
+grep -q "first frame showing each" views.log || fail "no latency summary: $(cat views.log)"
+
+# 5. Bad input: one line, exit 1.
+expect_error() {  # expect_error PATTERN LOG: exit 1 and one 'penumbra: error:' line matching
+  local code="$1" pattern="$2" log="$3"
+  if [ "$code" -ne 1 ] || [ "$(wc -l <"$log")" -ne 1 ] || ! grep -q "penumbra: error: .*$pattern" "$log"; then
+    fail "expected one error line matching '$pattern', exit 1; got exit $code: $(cat "$log")"
+  fi
+}
+printf 'light_center 0 2 0\nzoom 3\n' >unknown.txt
+"$bin" view --scene quad --script unknown.txt >unknown.log 2>&1
+expect_error $? "unknown.txt':2: unknown command 'zoom'" unknown.log
+printf 'set nonsense=1\n' >badset.txt
+view badset.log --scene quad --method gears --script badset.txt
+expect_error $? "badset.txt':1: method 'gears' has no option 'nonsense'" badset.log
+env -u DISPLAY -u WAYLAND_DISPLAY "$bin" view --scene quad >nodisplay.log 2>&1
+expect_error $? "no display" nodisplay.log
+
+if [ "$failed" -ne 0 ]; then exit 1; fi
+echo "PASS"
