@@ -452,8 +452,8 @@ void drop_solid_back_faces_kernel(CandidateBatch& batch, const SampleBox& sample
 }
 
 /// The rows j of `rows` (32 entries), lane by lane (indices taken mod 32).
-inline vu rows_at(const uint32_t* rows, vi j) {
-  j &= 31;
+inline vu rows_at(const uint32_t* rows, vu row) {
+  const vi j = __builtin_convertvector(row & 31u, vi);
 #if PENUMBRA_GEARS_AVX3
   // A two-register permute: gathers are several times slower on AVX-512 hardware and took a
   // quarter of keep()'s time.
@@ -483,15 +483,17 @@ inline vu rows_at(const uint32_t* rows, vi j) {
 inline uint32_t hidden_register(const ShadowCells& cells, int h, uint32_t lanes,
                                 const uint32_t* rows) {
   const vi i0 = loadi(cells.box[0] + h), i1 = loadi(cells.box[1] + h);
-  const vi j0 = loadi(cells.box[2] + h), j1 = loadi(cells.box[3] + h);
+  // Unsigned: lanes outside `lanes` hold whatever the cells held (their results are masked off),
+  // and unsigned arithmetic cannot overflow on them; valid boxes lie in [0, k).
+  const vu j0 = load_as<vu>(cells.box[2] + h), j1 = load_as<vu>(cells.box[3] + h);
   // Bits i0 … i1 of a row (i1 ≤ 31: 2 << 31 wraps to 0, as in span_bits).
-  const vu need = ((vu{} + 2u) << __builtin_convertvector(i1, vu)) -
-                  ((vu{} + 1u) << __builtin_convertvector(i0, vu));
+  const vu need = ((vu{} + 2u) << (__builtin_convertvector(i1, vu) & 31u)) -
+                  ((vu{} + 1u) << (__builtin_convertvector(i0, vu) & 31u));
   // Shadows of dense meshes span a row or two: rows j0, j0 + 1 and j1 cover boxes of up to three
   // rows, read W lanes at once; taller boxes are never called hidden (they are rasterized).
-  const vi j_mid = j0 + 1 < j1 ? j0 + 1 : j1;
+  const vu j_mid = j0 + 1u < j1 ? j0 + 1u : j1;
   const vu blocked = rows_at(rows, j0) & rows_at(rows, j_mid) & rows_at(rows, j1);
-  const vi hidden = ((blocked & need) == need) & (j1 - j0 <= 2);
+  const vi hidden = ((blocked & need) == need) & (j1 - j0 <= 2u);
   return movemask(hidden) & lanes;
 }
 
@@ -741,18 +743,19 @@ uint32_t raster_short_or(const LineBatch& lines, uint32_t lanes, int k, uint32_t
       b[m] = load(lines.b[m] + h);
       flat |= (movemask(b[m] == 0.0f) & mine) != 0;
     }
-    const vi j0 = loadi(lines.cells.box[2] + h), j1 = loadi(lines.cells.box[3] + h);
+    // Unsigned, as in hidden_register: lanes outside `mine` hold stale boxes.
+    const vu j0 = load_as<vu>(lines.cells.box[2] + h), j1 = load_as<vu>(lines.cells.box[3] + h);
     for (int dj = 0; dj < kShortRows; ++dj) {
-      const vi j = j0 + dj;
+      const vu j = j0 + static_cast<uint32_t>(dj);
       const uint32_t live = movemask(j <= j1) & mine;
       if (live == 0) break;
-      const vf jf = __builtin_convertvector(j, vf);
+      const vf jf = __builtin_convertvector((vi)j, vf);
       const RowSpans s = flat ? row_spans<true>(al, c, inv, lo_off, hi_off, b, jf, k)
                               : row_spans<false>(al, c, inv, lo_off, hi_off, b, jf, k);
       const uint32_t covered = movemask(s.valid) & live;
       hit |= covered << h;
       alignas(64) uint32_t bits[W];
-      alignas(64) int32_t row[W];
+      alignas(64) uint32_t row[W];
       const vu m = span_bits(s);
       std::memcpy(bits, &m, sizeof(bits));
       std::memcpy(row, &j, sizeof(row));
