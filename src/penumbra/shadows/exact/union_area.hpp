@@ -47,7 +47,7 @@ double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint
                              uint64_t* edge_beams = nullptr);
 
 /// Above this many edges the grouped uncovered_square_area divides; chunks start at kLeafEdges.
-inline constexpr size_t kDivideAboveEdges = 192;
+inline constexpr size_t kDivideAboveEdges = 384;
 inline constexpr size_t kLeafEdges = 32;
 
 /// uncovered_square_area, also appending to `outline` the boundary of the region inside the
