@@ -40,9 +40,10 @@ struct Mark {
 
 /// Collects the boundary of the covered region (winding ≠ 0) as the pieces of the sweep edges
 /// whose coefficient is non-zero, each run of one edge with one coefficient as one segment,
-/// directed so that its winding field is 1 on the covered region: up where the region lies to its
-/// right (coefficient −1), down where it lies to its left. Pieces end at ordinates shared by the
-/// edges they meet (beam ends, crossing ordinates), so the field is consistent line by line;
+/// directed like the outline of a positively oriented polygon, so that its winding number is 1 on
+/// the covered region and 0 elsewhere: down where the region lies to its right (coefficient +1:
+/// an uncovered interval ends there), up where it lies to its left. Pieces end at ordinates shared
+/// by the edges they meet (beam ends, crossing ordinates), so the field is consistent line by line;
 /// their abscissae there may differ by rounding, which leaves only horizontal slivers of measure
 /// zero. The right side of the square is not emitted: a region reaching it stays covered to the
 /// right, where nothing is measured.
