@@ -261,6 +261,8 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
     std::vector<DirectedEdge> edges;
     std::vector<UvEdge> uv;
+    std::vector<uint32_t> edge_prim, uv_prim;   // the triangle each of edges, uv comes from
+    std::vector<uint32_t> local, parent, kept;  // union-find over the kept triangles (groups)
     ClipperLib::Paths loops;
     ClipperLib::Path poly;
   };
@@ -278,6 +280,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   sc.open.clear();
   sc.tri.clear();
   sc.edges.clear();
+  sc.edge_prim.clear();
   size_t clipped_count = 0;
   uint32_t pieces = 0;  // non-degenerate opaque alpha pieces
 
@@ -424,10 +427,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
       const ClipperLib::IntPoint& b = c.q[i + 1 == c.n ? 0 : i + 1];
       if (a == b) continue;
       sc.edges.push_back(flip ? DirectedEdge{b, a} : DirectedEdge{a, b});
+      sc.edge_prim.push_back(prim);
     }
   };
   for (size_t i = 0; i < clipped_count; ++i) emit(sc.tri[i], sc.clipped[i]);
   sc.uv.clear();
+  sc.uv_prim.clear();
   const auto emit_open = [&](uint32_t prim, const DVec2* q) {
     const ExactOccluder& o = occluders[prim];
     const uint32_t own = sc.stamp[prim];
@@ -438,6 +443,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
       const DVec2& a = q[e];
       const DVec2& b = q[e == 2 ? 0 : e + 1];
       sc.uv.push_back(flip ? UvEdge{b.x, b.y, a.x, a.y} : UvEdge{a.x, a.y, b.x, b.y});
+      sc.uv_prim.push_back(prim);
     }
   };
   for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
@@ -460,11 +466,55 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   }
   if (sc.edges.empty() && sc.uv.empty() && semi.empty()) return r;
 
+  // Many edges: the sweep divides them into groups whose winding field is ≥ 0 on its own — the
+  // kept triangles joined by cancelled shared edges (same stamp), each such set's emitted edges
+  // the outline of the sum of its positively oriented polygons. Replaces each edge's triangle
+  // by its set's label.
+  const auto label_cancellation_groups = [&](std::vector<uint32_t>& prim_of_edge) {
+    if (sc.local.size() < occluders.size()) sc.local.resize(occluders.size());
+    sc.parent.clear();
+    sc.kept.clear();
+    const auto add = [&](uint32_t prim) {
+      sc.local[prim] = static_cast<uint32_t>(sc.parent.size());
+      sc.parent.push_back(static_cast<uint32_t>(sc.parent.size()));
+      sc.kept.push_back(prim);
+    };
+    for (size_t i = 0; i < clipped_count; ++i) add(sc.tri[i]);
+    for (const OpenTriangle& t : sc.open) add(t.prim);
+    for (const uint32_t prim : sc.inside) add(prim);
+    const auto find = [&](uint32_t i) {
+      while (sc.parent[i] != i) i = sc.parent[i] = sc.parent[sc.parent[i]];
+      return i;
+    };
+    // (A triangle stamped but clipped to nothing is in no list and joins nothing: it emitted
+    // nothing, and an edge it cancelled was clipped away in its neighbour too.)
+    const auto listed = [&](uint32_t prim) {
+      return sc.local[prim] < sc.kept.size() && sc.kept[sc.local[prim]] == prim;
+    };
+    const auto join = [&](uint32_t prim) {
+      for (const uint32_t nb : occluders[prim].neighbour)
+        if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == sc.stamp[prim] && listed(nb))
+          sc.parent[find(sc.local[prim])] = find(sc.local[nb]);
+    };
+    for (size_t i = 0; i < clipped_count; ++i) join(sc.tri[i]);
+    for (const OpenTriangle& t : sc.open) join(t.prim);
+    for (const uint32_t prim : sc.inside) join(prim);
+    for (uint32_t& e : prim_of_edge) e = find(sc.local[e]);
+  };
+
   if (open_ok) {
     // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
     // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
     append_uv_edges(sc.edges, sc.uv);
-    const double v = uncovered_square_area(sc.uv) / outline.area;
+    double area = 0.0;
+    if (sc.uv.size() <= kDivideAboveEdges) {
+      area = uncovered_square_area(sc.uv, &r.sweep_edge_beams);
+    } else {
+      sc.uv_prim.insert(sc.uv_prim.end(), sc.edge_prim.begin(), sc.edge_prim.end());
+      label_cancellation_groups(sc.uv_prim);
+      area = uncovered_square_area(sc.uv, sc.uv_prim, &r.sweep_edge_beams);
+    }
+    const double v = area / outline.area;
     r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
     r.visible_rgb = DVec3(r.visible);
     return r;
@@ -527,6 +577,7 @@ class ExactMethod final : public ShadowMethod {
     struct RowStats {
       double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
       double lit = 0, umbra = 0, penumbra = 0, degenerate = 0, umbra_by_ball = 0;
+      double sweep_edge_beams = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
     {
@@ -548,6 +599,7 @@ class ExactMethod final : public ShadowMethod {
           s.culled += r.culled;
           s.degenerate += r.degenerate ? 1 : 0;
           s.umbra_by_ball += r.umbra_by_ball ? 1 : 0;
+          s.sweep_edge_beams += static_cast<double>(r.sweep_edge_beams);
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
           } else if (r.visible <= 1e-9) {
@@ -572,6 +624,7 @@ class ExactMethod final : public ShadowMethod {
       t.penumbra += s.penumbra;
       t.degenerate += s.degenerate;
       t.umbra_by_ball += s.umbra_by_ball;
+      t.sweep_edge_beams += s.sweep_edge_beams;
     }
     Counters& c = vis.counters;
     c["pixels"] = t.pixels;
@@ -586,6 +639,7 @@ class ExactMethod final : public ShadowMethod {
     c["pixels_penumbra"] = t.penumbra;
     c["degenerate_fallbacks"] = t.degenerate;
     c["pixels_umbra_by_ball"] = t.umbra_by_ball;
+    c["sweep_edge_beams"] = t.sweep_edge_beams;
     size_t balls = 0;
     for (const ExactSolid& solid : scene.solids()) balls += solid.balls.size();
     c["inner_balls"] = static_cast<double>(balls);

@@ -184,6 +184,9 @@ struct ExactPointResult {
   bool degenerate = false;
   /// Decided in umbra by an inner ball of a solid (solid_interior.hpp), nothing projected.
   bool umbra_by_ball = false;
+  /// The area sweep's work: edges crossing each of its beams, summed over every sweep (the
+  /// square's union and, with many edges, the outlines of its parts; union_area.hpp).
+  uint64_t sweep_edge_beams = 0;
 };
 
 /// Carried from one receiver to the next (exact_visibility): was the previous one in umbra by the

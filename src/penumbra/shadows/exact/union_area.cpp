@@ -30,6 +30,51 @@ struct Coefficients {
   std::vector<double> since;
 };
 
+/// From ordinate y on, sweep edge `edge` has coefficient `coefficient` in the uncovered width
+/// (+1 or −1: it bounds the covered region, 0: it does not).
+struct Mark {
+  double y;
+  uint32_t edge;
+  int32_t coefficient;
+};
+
+/// Collects the boundary of the covered region (winding ≠ 0) as the pieces of the sweep edges
+/// whose coefficient is non-zero, each run of one edge with one coefficient as one segment,
+/// directed like the outline of a positively oriented polygon, so that its winding number is 1 on
+/// the covered region and 0 elsewhere: down where the region lies to its right (coefficient +1:
+/// an uncovered interval ends there), up where it lies to its left. Pieces end at ordinates shared
+/// by the edges they meet (beam ends, crossing ordinates), so the field is consistent line by line;
+/// their abscissae there may differ by rounding, which leaves only horizontal slivers of measure
+/// zero. The right side of the square is not emitted: a region reaching it stays covered to the
+/// right, where nothing is measured.
+struct OutlineSink {
+  const std::vector<SweepEdge>* sweep = nullptr;
+  std::vector<UvEdge>* out = nullptr;
+  std::vector<int8_t> dir;    // per sweep edge: the direction of its open piece, 0: none
+  std::vector<double> since;  // where that piece starts
+
+  void reset(const std::vector<SweepEdge>& edges, std::vector<UvEdge>& outline) {
+    sweep = &edges;
+    out = &outline;
+    dir.assign(edges.size(), 0);
+    since.resize(edges.size());
+  }
+  double x_at(const SweepEdge& e, double y) const {
+    return y == e.y0 ? e.x0 : y == e.y1 ? e.x1 : e.x0 + (y - e.y0) * e.slope;
+  }
+  void mark(uint32_t k, int coefficient, double y) {
+    const int d = -coefficient;
+    if (d == dir[k]) return;
+    if (dir[k] != 0 && y > since[k]) {
+      const SweepEdge& e = (*sweep)[k];
+      const double xa = x_at(e, since[k]), xb = x_at(e, y);
+      out->push_back(dir[k] > 0 ? UvEdge{xa, since[k], xb, y} : UvEdge{xb, y, xa, since[k]});
+    }
+    dir[k] = static_cast<int8_t>(d);
+    since[k] = y;
+  }
+};
+
 /// Two edges, `left` left of `right` at the beam's bottom, crossing at ordinate y.
 struct Swap {
   double y;
@@ -43,9 +88,10 @@ struct Swap {
 /// is in bottom order and ends in top order; false (area unchanged) when a swap's two edges are
 /// not neighbours at its turn (several crossings at one point, or close ones that rounding
 /// reordered): the caller then splits the beam.
+/// With `marks`, every edge's coefficient at ya and each change at a swap is recorded there.
 bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossing>& active,
                         std::vector<Swap>& swaps, std::vector<uint32_t>& pos, Coefficients& co,
-                        double ya, double yb, double side, double& area) {
+                        double ya, double yb, double side, double& area, std::vector<Mark>* marks) {
   std::sort(swaps.begin(), swaps.end(), [](const Swap& a, const Swap& b) { return a.y < b.y; });
   const size_t n = active.size();
   co.w_left.resize(n), co.coefficient.resize(n), co.since.resize(n);
@@ -56,6 +102,7 @@ bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossin
     w += active[k].dir;
     co.coefficient[k] = (co.w_left[k] == 0 ? 1 : 0) - (w == 0 ? 1 : 0);
     co.since[k] = ya;
+    if (marks != nullptr) marks->push_back({ya, active[k].edge, co.coefficient[k]});
   }
   double sum = 0.0;
   const auto flush = [&](size_t k, double y) {
@@ -78,6 +125,10 @@ bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossin
     co.w_left[q] = co.w_left[p] + active[p].dir;
     co.coefficient[p] = (co.w_left[p] == 0 ? 1 : 0) - (co.w_left[q] == 0 ? 1 : 0);
     co.coefficient[q] = (co.w_left[q] == 0 ? 1 : 0) - (co.w_left[q] + active[q].dir == 0 ? 1 : 0);
+    if (marks != nullptr) {
+      marks->push_back({s.y, active[p].edge, co.coefficient[p]});
+      marks->push_back({s.y, active[q].edge, co.coefficient[q]});
+    }
   }
   for (size_t k = 0; k < n; ++k) flush(k, yb);
   area += sum + (w == 0 ? (yb - ya) * side : 0.0);
@@ -113,6 +164,16 @@ double uncovered_width(const std::vector<Crossing>& sorted, double side, X x_of)
   return width + (w == 0 ? side - prev : 0.0);
 }
 
+/// Records each edge's coefficient at ordinate y from the edges sorted by their x there.
+void mark_walk(const std::vector<Crossing>& sorted, double y, OutlineSink& sink) {
+  int w = 0;
+  for (const Crossing& c : sorted) {
+    const int w_right = w + c.dir;
+    sink.mark(c.edge, (w == 0 ? 1 : 0) - (w_right == 0 ? 1 : 0), y);
+    w = w_right;
+  }
+}
+
 }  // namespace
 
 void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& out) {
@@ -121,7 +182,13 @@ void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& o
                    static_cast<double>(e.to.X), static_cast<double>(e.to.Y)});
 }
 
-double uncovered_square_area(std::span<const UvEdge> edges) {
+namespace {
+
+/// uncovered_square_area; with `outline`, also the boundary of the covered region inside the
+/// square (OutlineSink) appended there.
+/// `edge_beams` (if given) grows by the edges crossing each beam, summed: the sweep's work.
+double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
+                    uint64_t* edge_beams) {
   const double side = kUvScale;
   struct Start {
     double y0;
@@ -136,6 +203,8 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
   thread_local std::vector<Swap> swaps;
   thread_local std::vector<uint32_t> pos;
   thread_local Coefficients co;
+  thread_local OutlineSink sink;
+  thread_local std::vector<Mark> marks;
   sweep.clear();
   order.clear();
   left.clear();
@@ -209,6 +278,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
   }
   if (sweep.empty()) return side * side;
   if (pos.size() < sweep.size()) pos.resize(sweep.size());
+  if (outline != nullptr) sink.reset(sweep, *outline);
   std::sort(order.begin(), order.end(), [](const Start& a, const Start& b) {
     return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
   });
@@ -228,6 +298,8 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       if (c.y1 > ya) {
         active[kept++] = c;
         yb = std::min(yb, c.y1);
+      } else if (outline != nullptr) {
+        sink.mark(c.edge, 0, c.y1);
       }
     }
     active.resize(kept);
@@ -245,6 +317,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       continue;
     }
     const double h = yb - ya;
+    if (edge_beams != nullptr) *edge_beams += active.size();
     // Abscissae at both ends: at ya the previous beam's top (an edge that just started enters with
     // xb at its lower end). End points exactly: edges meeting at a vertex then meet in x too, never
     // a false crossing.
@@ -270,6 +343,7 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
     if (ordered) {
       // In order at both ends, so no two edges cross inside the beam: the uncovered width is
       // linear in y there, and its value at the middle times the height is the beam's exact area.
+      if (outline != nullptr) mark_walk(active, ya, sink);
       area +=
           h * uncovered_width(active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); });
       ya = yb;
@@ -293,7 +367,10 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
       }
       by_top[j] = key;
     }
-    if (integrate_by_swaps(sweep, active, swaps, pos, co, ya, yb, side, area)) {
+    marks.clear();
+    if (integrate_by_swaps(sweep, active, swaps, pos, co, ya, yb, side, area,
+                           outline != nullptr ? &marks : nullptr)) {
+      for (const Mark& m : marks) sink.mark(m.edge, m.coefficient, m.y);
       ya = yb;
       continue;
     }
@@ -313,12 +390,71 @@ double uncovered_square_area(std::span<const UvEdge> edges) {
         c.xa = e.x0 + (mid - e.y0) * e.slope;
       }
       sort_by_x(active);
+      if (outline != nullptr) mark_walk(active, lo, sink);
       area += (hi - lo) * uncovered_width(active, side, [](const Crossing& c) { return c.xa; });
       lo = hi;
     }
     ya = yb;
   }
   return area + (side - ya) * side;
+}
+
+}  // namespace
+
+double uncovered_square_area(std::span<const UvEdge> edges, uint64_t* edge_beams) {
+  return sweep_square(edges, nullptr, edge_beams);
+}
+
+double covered_outline(std::span<const UvEdge> edges, std::vector<UvEdge>& outline,
+                       uint64_t* edge_beams) {
+  return sweep_square(edges, &outline, edge_beams);
+}
+
+double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint32_t> group,
+                             uint64_t* edge_beams) {
+  if (edges.size() <= kDivideAboveEdges) return sweep_square(edges, nullptr, edge_beams);
+  // The groups in the order of their first edge (the caller's order: neighbours in space), each
+  // group's edges together; chunks of whole groups with at least kLeafEdges edges each.
+  thread_local std::vector<std::pair<uint32_t, uint32_t>> by_group;  // (group, edge)
+  thread_local std::vector<std::pair<uint32_t, uint32_t>> runs;      // (first edge, run start)
+  thread_local std::vector<UvEdge> level, next;
+  thread_local std::vector<size_t> bounds, next_bounds;  // chunk i: [bounds[i], bounds[i + 1])
+  by_group.resize(edges.size());
+  for (uint32_t i = 0; i < edges.size(); ++i) by_group[i] = {group[i], i};
+  std::sort(by_group.begin(), by_group.end());
+  runs.clear();
+  for (uint32_t i = 0; i < by_group.size(); ++i)
+    if (i == 0 || by_group[i].first != by_group[i - 1].first)
+      runs.push_back({by_group[i].second, i});
+  std::sort(runs.begin(), runs.end());
+  level.clear();
+  bounds.assign(1, 0);
+  for (const auto& [first, start] : runs) {
+    for (uint32_t i = start; i < by_group.size() && by_group[i].first == by_group[start].first; ++i)
+      level.push_back(edges[by_group[i].second]);
+    if (level.size() - bounds.back() >= kLeafEdges) bounds.push_back(level.size());
+  }
+  if (bounds.back() != level.size()) bounds.push_back(level.size());
+  // Pairs of neighbouring chunks replaced by the outline of their union, level by level: each
+  // chunk's field is 0 or 1 after its first merge, edges inside the union so far are gone, and
+  // only the last sweep sees every chunk. A union covering the square ends it (V = 0).
+  while (bounds.size() > 3) {
+    next.clear();
+    next_bounds.assign(1, 0);
+    for (size_t c = 0; c + 1 < bounds.size(); c += 2) {
+      const size_t end = bounds[std::min(c + 2, bounds.size() - 1)];
+      const std::span<const UvEdge> pair(level.data() + bounds[c], end - bounds[c]);
+      if (c + 2 < bounds.size()) {
+        if (covered_outline(pair, next, edge_beams) <= 0.0) return 0.0;
+      } else {
+        next.insert(next.end(), pair.begin(), pair.end());  // the odd one out
+      }
+      next_bounds.push_back(next.size());
+    }
+    std::swap(level, next);
+    std::swap(bounds, next_bounds);
+  }
+  return sweep_square(level, nullptr, edge_beams);
 }
 
 }  // namespace penumbra

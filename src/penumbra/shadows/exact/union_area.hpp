@@ -4,6 +4,7 @@
 // no integer rounding of intersection points, no output polygons.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -31,6 +32,29 @@ void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& o
 /// the others are split at the crossings first. Everything in double: the result is the area of
 /// the edges' winding field to ~1e-16 relative (Clipper's union rounds every intersection point
 /// to the integer grid, ~1e-9 of the light's side).
-double uncovered_square_area(std::span<const UvEdge> edges);
+/// `edge_beams`, if given, grows by the sweep's work: the edges crossing each beam, summed.
+double uncovered_square_area(std::span<const UvEdge> edges, uint64_t* edge_beams = nullptr);
+
+/// The same area, computed by divide and conquer when there are many edges: `group[i]` labels
+/// edge i, and the edges of each label must form closed chains whose winding number is ≥ 0
+/// everywhere (the outline of one positively oriented polygon, or of several whose shared edges
+/// cancelled). Chunks of whole groups are merged pairwise, each pair replaced by the outline of
+/// its union (covered_outline), so edges buried inside the union so far leave early: one sweep
+/// over everything costs the product of the beams and the edges crossing each (quadratic for N
+/// stacked copies of a triangle), this the sum of that over much smaller outlines. Exact like
+/// the single sweep (the outlines' end points are rounded along horizontal lines only).
+double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint32_t> group,
+                             uint64_t* edge_beams = nullptr);
+
+/// Above this many edges the grouped uncovered_square_area divides; chunks start at kLeafEdges.
+inline constexpr size_t kDivideAboveEdges = 384;
+inline constexpr size_t kLeafEdges = 32;
+
+/// uncovered_square_area, also appending to `outline` the boundary of the region inside the
+/// square where the winding number is not 0: segments whose winding field is 1 on that region
+/// and 0 elsewhere in the square (the square's right side, where a region may end, is left out:
+/// nothing right of it is measured).
+double covered_outline(std::span<const UvEdge> edges, std::vector<UvEdge>& outline,
+                       uint64_t* edge_beams = nullptr);
 
 }  // namespace penumbra
