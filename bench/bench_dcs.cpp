@@ -3,8 +3,9 @@
 //   ./build/release/bench/bench_dcs --benchmark_counters_tabular=true
 //   ./build/release/bench/bench_dcs --benchmark_filter='bunny/1024'
 // Args: {image size, k, light scale ×1..×5}. Scenes: bunny, dragon, armadillo, elephant (need
-// scripts/fetch-models.sh), spheres. The ratios of interest are Raytrace/Dcs and Gears/Dcs of the
-// same Args; DcsCentre is the inexact light-centre silhouette (Forest fig. 4.3a) for its cost.
+// scripts/fetch-models.sh), spheres, nest, garden, herd. The ratios of interest are Raytrace/Dcs
+// and Gears/Dcs of the same Args; DcsCentre is the inexact light-centre silhouette (Forest
+// fig. 4.3a) for its cost.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -62,6 +63,10 @@ PENUMBRA_DCS_SCENE(dragon, headline)
 PENUMBRA_DCS_SCENE(armadillo, headline)
 PENUMBRA_DCS_SCENE(elephant, headline)
 PENUMBRA_DCS_SCENE(spheres, small)
+// The scene classes at 512² only: every twig and leaf edge is a silhouette, so dcs takes seconds.
+PENUMBRA_DCS_SCENE(nest, small)
+PENUMBRA_DCS_SCENE(garden, small)
+PENUMBRA_DCS_SCENE(herd, small)
 BENCHMARK_CAPTURE(BM_Dcs, bunny_sweep, std::string("bunny"))->Apply(sweeps);
 BENCHMARK_CAPTURE(BM_Raytrace, bunny_sweep, std::string("bunny"))->Apply(sweeps);
 BENCHMARK_CAPTURE(BM_Gears, bunny_sweep, std::string("bunny"))->Apply(sweeps);

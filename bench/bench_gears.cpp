@@ -3,7 +3,9 @@
 //   ./build/release/bench/bench_gears --benchmark_counters_tabular=true
 //   ./build/release/bench/bench_gears --benchmark_filter='/bunny/1024/16$'
 // Args: {image size, k (k×k grid samples), grid resolution, light scale ×1..×5}. Scenes: bunny,
-// dragon, armadillo and elephant (need scripts/fetch-models.sh), spheres. NoPixelCull: ablation.
+// dragon, armadillo and elephant (need scripts/fetch-models.sh), spheres, and the scene classes
+// nest (fragmented), garden (alpha-textured foliage) and herd (many dense models). NoPixelCull:
+// ablation.
 // The ratio of interest is Raytrace/Gears of the same Args (raytrace ignores the grid resolution);
 // RaytraceDynamic adds the BVH build a moving scene pays every frame (the paper's "RT dyn."
 // column).
@@ -80,6 +82,12 @@ BENCHMARK_CAPTURE(BM_Raytrace, armadillo, std::string("armadillo"))->Apply(headl
 BENCHMARK_CAPTURE(BM_Gears, armadillo, std::string("armadillo"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Raytrace, elephant, std::string("elephant"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Gears, elephant, std::string("elephant"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, nest, std::string("nest"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, nest, std::string("nest"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, garden, std::string("garden"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, garden, std::string("garden"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Raytrace, herd, std::string("herd"))->Apply(headline);
+BENCHMARK_CAPTURE(BM_Gears, herd, std::string("herd"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_GearsNoPixelCull, bunny, std::string("bunny"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_GearsNoPixelCull, elephant, std::string("elephant"))->Apply(headline);
 BENCHMARK_CAPTURE(BM_Gears, bunny_sweep, std::string("bunny"))->Apply(sweeps);

@@ -19,7 +19,7 @@ size="${1:-512x512}"
 k="${2:-16}"
 shift 2 || shift $# || true
 scenes=("$@")
-[ ${#scenes[@]} -gt 0 ] || scenes=(quad spheres fence default bunny dragon armadillo elephant)
+[ ${#scenes[@]} -gt 0 ] || scenes=(quad spheres fence default nest garden herd bunny dragon armadillo elephant)
 bin=./build/release/penumbra
 [ -x "$bin" ] || scripts/build.sh release --target penumbra_cli >&2
 args=()

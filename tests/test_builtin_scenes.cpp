@@ -11,6 +11,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/model_paths.hpp"
+#include "penumbra/scene/scene_classes.hpp"
 #include "penumbra/scene/topology.hpp"
 
 namespace penumbra {
@@ -43,7 +44,8 @@ TEST(BuiltinScenes, NamesAreUniqueAndKnown) {
     EXPECT_TRUE(is_builtin_scene(info.name));
     EXPECT_FALSE(info.description.empty());
   }
-  for (const char* name : {"quad", "spheres", "fence", "default", "bunny", "dragon"})
+  for (const char* name :
+       {"quad", "spheres", "fence", "default", "nest", "garden", "herd", "bunny", "dragon"})
     EXPECT_TRUE(names.count(name)) << name;
   EXPECT_FALSE(is_builtin_scene("nonexistent"));
 }
@@ -55,6 +57,9 @@ TEST(BuiltinScenes, ProceduralScenesBuildAndValidate) {
       {"spheres", 2 + 27 * (24 * (2 * 10 + 2))},
       {"fence", 2 + 2},
       {"default", 2 + 12 + 32 * (2 * 14 + 2) + 2},
+      {"nest", 2 + 20000 * 6},                                  // twigs of 6 triangles
+      {"garden", 2 + 400 * 6 + 400 * 256 * 2},                  // stems of 6, leaf cards of 2
+      {"herd", 2 + (herd_models_fetched() ? 363738 : 344160)},  // models or stand-ins
   };
   size_t built = 0;
   for (const BuiltinSceneInfo& info : builtin_scenes()) {

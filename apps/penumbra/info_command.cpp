@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
+#include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/topology.hpp"
 
@@ -20,6 +21,7 @@ void run_info(const std::string& name) {
   const Scene scene = load_scene(name);
   const Bounds3 b = scene.bounds();
   std::printf("scene      %s\n", shown(scene.name).c_str());
+  if (is_builtin_scene(name)) std::printf("origin     %s\n", builtin_scene_origin(name).c_str());
   std::printf("triangles  %zu in %zu mesh(es)\n", scene.triangle_count(), scene.meshes.size());
   std::printf("bounds     (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n", b.lo.x, b.lo.y,
               b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());

@@ -9,44 +9,13 @@
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/model_scene.hpp"
+#include "penumbra/scene/scene_classes.hpp"
+#include "penumbra/scene/scene_parts.hpp"
 #include "penumbra/scene/shapes.hpp"
 
 namespace penumbra {
 
 namespace {
-
-int add_material(Scene& s, const std::string& name, Vec3 albedo, int alpha_texture = -1) {
-  Material m;
-  m.name = name;
-  m.albedo = albedo;
-  m.alpha_texture = alpha_texture;
-  s.materials.push_back(m);
-  return static_cast<int>(s.materials.size() - 1);
-}
-
-void add_mesh(Scene& s, Mesh mesh, const std::string& name, int material) {
-  mesh.name = name;
-  mesh.material = material;
-  s.meshes.push_back(std::move(mesh));
-}
-
-/// The 10×10 ground quad at y = 0, facing up.
-void add_ground(Scene& s, float side = 10.0f) {
-  const int mat = add_material(s, "ground", Vec3(0.75f));
-  add_mesh(s, make_quad(Vec3(0.0f), Vec3(0, 0, side), Vec3(side, 0, 0)), "ground", mat);
-}
-
-/// A square light of side `side` centred at `center`, parallel to the ground, facing down.
-Light square_light(const Vec3& center, float side, float power = 1.0f) {
-  Light l;
-  l.name = "light";
-  l.shape = LightShape::rect;
-  l.center = center;
-  l.edge_u = Vec3(side, 0, 0);
-  l.edge_v = Vec3(0, 0, side);  // cross(edge_u, edge_v) = -y: emits downward
-  l.radiance = Vec3(power);
-  return l;
-}
 
 /// A fence/lattice alpha mask: vertical slats and two rails, 64×64 texels.
 int add_fence_texture(Scene& s) {
@@ -88,20 +57,12 @@ Scene spheres_scene() {
   add_ground(s);
   const int mat = add_material(s, "spheres", Vec3(0.3f, 0.5f, 0.8f));
   Mesh all;
-  all.name = "spheres";
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k) {
         const Vec3 c(0.4f * static_cast<float>(i - 1), 0.6f + 0.4f * static_cast<float>(j),
                      0.4f * static_cast<float>(k - 1));
-        Mesh sphere = make_sphere(c, 0.15f, 12, 24);
-        const uint32_t base = static_cast<uint32_t>(all.positions.size());
-        all.positions.insert(all.positions.end(), sphere.positions.begin(), sphere.positions.end());
-        all.normals.insert(all.normals.end(), sphere.normals.begin(), sphere.normals.end());
-        for (Triangle t : sphere.triangles) {
-          for (uint32_t& v : t.v) v += base;
-          all.triangles.push_back(t);
-        }
+        append_mesh(all, make_sphere(c, 0.15f, 12, 24));
       }
   add_mesh(s, std::move(all), "spheres", mat);
   s.lights.push_back(square_light(Vec3(0.3f, 3.0f, 0.2f), 1.0f, 4.0f));
@@ -210,9 +171,20 @@ Scene model_scene(const std::string& name, const std::string& file_name) {
   return frame_model(load_mesh_file(*path), name, benchmark_layout, *path);
 }
 
+std::string model_origin(const std::string& file_name) {
+  if (const auto path = find_model(file_name)) return "CGAL model " + path->string();
+  return "needs " + file_name + " (not in " + models_dir().string() +
+         "): run scripts/fetch-models.sh";
+}
+
+std::string seeded_origin() {
+  return "procedural, PCG32 seed " + std::to_string(kSceneClassSeed);
+}
+
 struct Entry {
   BuiltinSceneInfo info;
   std::function<Scene()> make;
+  std::function<std::string()> origin = [] { return std::string("procedural"); };
 };
 
 const std::vector<Entry>& entries() {
@@ -227,15 +199,34 @@ const std::vector<Entry>& entries() {
        fence_scene},
       {{"default", "box, sphere and fence panel over a plane: the main job's scene", false},
        default_scene},
+      {{"nest",
+        "20k thin disconnected twigs (120k triangles) in a bowl over a plane: fragmented geometry",
+        false},
+       [] { return make_nest_scene(); },
+       seeded_origin},
+      {{"garden",
+        "400 plants, 102k alpha-textured leaf cards (207k triangles) over a plane: foliage", false},
+       [] { return make_garden_scene(); },
+       seeded_origin},
+      {{"herd",
+        "six dense models side by side (CGAL models, 364k triangles; procedural shapes, 344k, "
+        "when not fetched)",
+        false},
+       [] { return make_herd_scene(); },
+       herd_origin},
       {{"bunny", "Stanford bunny (CGAL data, 75k triangles), the benchmark scene", true},
-       [] { return model_scene("bunny", "bunny00.off"); }},
+       [] { return model_scene("bunny", "bunny00.off"); },
+       [] { return model_origin("bunny00.off"); }},
       {{"dragon", "Chinese dragon (CGAL data, 20k triangles), same layout as bunny", true},
-       [] { return model_scene("dragon", "ChineseDragon-10kv.off"); }},
+       [] { return model_scene("dragon", "ChineseDragon-10kv.off"); },
+       [] { return model_origin("ChineseDragon-10kv.off"); }},
       {{"armadillo", "Armadillo (CGAL data, 52k triangles, closed), same layout as bunny", true},
-       [] { return model_scene("armadillo", "armadillo.off"); }},
+       [] { return model_scene("armadillo", "armadillo.off"); },
+       [] { return model_origin("armadillo.off"); }},
       {{"elephant", "refined elephant (CGAL data, 89k triangles, closed), same layout as bunny",
         true},
-       [] { return model_scene("elephant", "refined_elephant.off"); }},
+       [] { return model_scene("elephant", "refined_elephant.off"); },
+       [] { return model_origin("refined_elephant.off"); }},
   };
   return list;
 }
@@ -254,6 +245,12 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
 bool is_builtin_scene(std::string_view name) {
   return std::any_of(entries().begin(), entries().end(),
                      [&](const Entry& e) { return e.info.name == name; });
+}
+
+std::string builtin_scene_origin(std::string_view name) {
+  for (const Entry& e : entries())
+    if (e.info.name == name) return e.origin();
+  return {};
 }
 
 Scene make_builtin_scene(std::string_view name) {

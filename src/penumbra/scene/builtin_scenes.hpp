@@ -1,5 +1,6 @@
-// Scenes by name that need no files (quad, spheres, fence, default) and the fixed model scenes
-// (bunny, dragon, armadillo, elephant) built around fetched models.
+// Scenes by name that need no files (quad, spheres, fence, default; the scene classes nest,
+// garden, herd of scene_classes.hpp) and the fixed model scenes (bunny, dragon, armadillo,
+// elephant) built around fetched models.
 #pragma once
 
 #include <string>
@@ -18,6 +19,11 @@ struct BuiltinSceneInfo {
 
 const std::vector<BuiltinSceneInfo>& builtin_scenes();
 bool is_builtin_scene(std::string_view name);
+
+/// Where the named built-in scene's content comes from, on one line: "procedural", its seed, the
+/// model file found, or what is missing and how to fetch it (herd: which of its two forms loads).
+/// Empty for a name that is not built in.
+std::string builtin_scene_origin(std::string_view name);
 
 /// Builds the named scene; throws Error for an unknown name or a missing model file (the message
 /// says how to fetch it).

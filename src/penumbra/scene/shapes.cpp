@@ -68,4 +68,55 @@ Mesh make_sphere(const Vec3& center, float radius, int rings, int segments) {
   return m;
 }
 
+Mesh make_torus(const Vec3& center, float major_radius, float minor_radius, int major_segments,
+                int minor_segments) {
+  major_segments = std::max(major_segments, 3);
+  minor_segments = std::max(minor_segments, 3);
+  Mesh m;
+  m.name = "torus";
+  const float pi = static_cast<float>(kPi);
+  for (int i = 0; i < major_segments; ++i) {
+    const float phi = 2.0f * pi * static_cast<float>(i) / static_cast<float>(major_segments);
+    const Vec3 radial(std::cos(phi), 0.0f, std::sin(phi));
+    for (int j = 0; j < minor_segments; ++j) {
+      const float theta = 2.0f * pi * static_cast<float>(j) / static_cast<float>(minor_segments);
+      const Vec3 n = std::cos(theta) * radial + Vec3(0.0f, std::sin(theta), 0.0f);
+      m.positions.push_back(center + major_radius * radial + minor_radius * n);
+      m.normals.push_back(n);
+    }
+  }
+  const auto vertex = [&](int i, int j) {
+    return static_cast<uint32_t>((i % major_segments) * minor_segments + (j % minor_segments));
+  };
+  // Outward facing: (a, b, d) turns counter-clockwise seen from outside the tube.
+  for (int i = 0; i < major_segments; ++i) {
+    for (int j = 0; j < minor_segments; ++j) {
+      const uint32_t a = vertex(i, j), b = vertex(i, j + 1);
+      const uint32_t c = vertex(i + 1, j), d = vertex(i + 1, j + 1);
+      m.triangles.push_back({{a, b, d}});
+      m.triangles.push_back({{a, d, c}});
+    }
+  }
+  return m;
+}
+
+Mesh make_open_prism(const Vec3& a, const Vec3& b, float radius, float phase) {
+  Mesh m;
+  m.name = "prism";
+  Vec3 t, s;
+  orthonormal_basis(glm::normalize(b - a), t, s);
+  for (int k = 0; k < 3; ++k) {
+    const float angle = phase + 2.0f * static_cast<float>(kPi) * static_cast<float>(k) / 3.0f;
+    const Vec3 offset = radius * (std::cos(angle) * t + std::sin(angle) * s);
+    m.positions.push_back(a + offset);
+    m.positions.push_back(b + offset);
+  }
+  for (uint32_t k = 0; k < 3; ++k) {
+    const uint32_t a0 = 2 * k, b0 = 2 * k + 1, a1 = 2 * ((k + 1) % 3), b1 = a1 + 1;
+    m.triangles.push_back({{a0, a1, b1}});
+    m.triangles.push_back({{a0, b1, b0}});
+  }
+  return m;
+}
+
 }  // namespace penumbra
