@@ -21,6 +21,7 @@
 #include "penumbra/scene/shapes.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "support/frame_helpers.hpp"
+#include "support/mask_agreement.hpp"
 
 namespace penumbra {
 namespace {
@@ -434,6 +435,55 @@ TEST(TinyLights, VanishingLightsBecomePointLightsAndKeepTheirShadow) {
   Scene small = scaled(baseline_scene(), 1e-7f);
   validate_scene(small);
   EXPECT_EQ(small.lights[0].shape, LightShape::rect);
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+/// The far-placement and scale reproducers' scene: a 6×6 floor, a box of side 0.6, a 0.6×0.6
+/// light 2 above the floor, seen from (0, 2.2, 3.5).
+Scene small_box_scene() {
+  Scene s;
+  s.name = "small_box";
+  s.materials.push_back(Material{});
+  s.meshes.push_back(make_quad(Vec3(0.0f), Vec3(0, 0, 6), Vec3(6, 0, 0)));
+  s.meshes.push_back(make_box(Vec3(0, 0.6f, 0), Vec3(0.3f)));
+  Light light;
+  light.shape = LightShape::rect;
+  light.center = Vec3(0, 2, 0);
+  light.edge_u = Vec3(0.6f, 0, 0);
+  light.edge_v = Vec3(0, 0, 0.6f);
+  light.radiance = Vec3(5.0f);
+  s.lights.push_back(light);
+  s.camera.position = Vec3(0.0f, 2.2f, 3.5f);
+  s.camera.target = Vec3(0.0f, 0.3f, 0.0f);
+  return s;
+}
+
+// The sample-exact methods give raytrace's answer at any scale: gears kept its light space's depth
+// in world units and, at 1e-6, 1e4 and 1e6, missed blockers on 0.3–4.3 % of the samples (dcs was
+// already exact). Every light shape, since each builds its light space differently.
+TEST(ScaleInvariance, SampleExactMethodsMatchRaytraceAtEveryScale) {
+  for (const LightShape shape :
+       {LightShape::rect, LightShape::disk, LightShape::sphere, LightShape::point}) {
+    for (const float k : {1e-6f, 1e-4f, 1.0f, 1e4f, 1e6f}) {
+      Scene s = small_box_scene();
+      Light& l = s.lights[0];
+      l.shape = shape;
+      l.radius = 0.3f;
+      l.normal = Vec3(0, -1, 0);
+      s = scaled(std::move(s), k);
+      validate_scene(s);
+      const auto t = test::make_test_frame(s, 64, 64, grid_samples(4));
+      for (const char* m : {"gears", "dcs"}) {
+        std::printf("%s light, scale %g, %s: ", std::string(to_string(shape)).c_str(), k, m);
+        test::expect_equal_masks(test::compare_masks(t, m), 100, 0);
+      }
+    }
+  }
 }
 
 }  // namespace
