@@ -23,6 +23,10 @@ void run_info(const std::string& name) {
   std::printf("scene      %s\n", shown(scene.name).c_str());
   if (is_builtin_scene(name)) std::printf("origin     %s\n", builtin_scene_origin(name).c_str());
   std::printf("triangles  %zu in %zu mesh(es)\n", scene.triangle_count(), scene.meshes.size());
+  if (scene.origin != DVec3(0.0))
+    std::printf(
+        "origin     (%.17g, %.17g, %.17g): bounds, camera and lights below are relative to it\n",
+        scene.origin.x, scene.origin.y, scene.origin.z);
   std::printf("bounds     (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n", b.lo.x, b.lo.y,
               b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());
   std::printf("camera     (%.3g, %.3g, %.3g) -> (%.3g, %.3g, %.3g), fov %.3g deg, %dx%d\n",

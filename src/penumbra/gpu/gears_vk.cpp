@@ -181,7 +181,7 @@ class GearsVk final : public ShadowMethod {
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
-    const float r = sphere ? light.radius : 0.0f;
+    const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
     for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
       for (int c = 0; c < 4; ++c)
         corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);

@@ -86,6 +86,33 @@ double light_size(const Light& l) {
 
 }  // namespace
 
+DVec3 recentring_offset(const Scene& scene) {
+  const Bounds3 b = scene.bounds();
+  if (b.empty() || !is_finite(b.lo) || !is_finite(b.hi)) return DVec3(0.0);
+  const DVec3 lo(b.lo), hi(b.hi);
+  const double diagonal = glm::length(hi - lo);
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return DVec3(0.0);
+  const double step = std::exp2(std::ceil(std::log2(diagonal)));
+  const DVec3 centre = 0.5 * (lo + hi);
+  DVec3 offset;
+  for (int a = 0; a < 3; ++a) offset[a] = step * std::round(centre[a] / step);
+  return DVec3(Vec3(offset));  // a float, so that subtracting it from float coordinates is exact
+}
+
+void recentre_scene(Scene& scene) {
+  const DVec3 offset = recentring_offset(scene);
+  if (offset == DVec3(0.0)) return;
+  const auto moved = [&](Vec3& p) { p = Vec3(DVec3(p) - offset); };
+  for (Mesh& m : scene.meshes) {
+    for (Vec3& p : m.positions) moved(p);
+    m.source_transform[3] -= Vec4(Vec3(offset), 0.0f);
+  }
+  for (Light& l : scene.lights) moved(l.center);
+  moved(scene.camera.position);
+  moved(scene.camera.target);
+  scene.origin += offset;
+}
+
 size_t validate_scene(Scene& scene) {
   require(!scene.materials.empty(), "scene has no materials");
   for (const Material& m : scene.materials) {
@@ -123,6 +150,8 @@ size_t validate_scene(Scene& scene) {
     removed += remove_degenerate_triangles(mesh);
   }
   require(scene.triangle_count() > 0, "scene has no (non-degenerate) triangles");
+  // Before the light and camera checks, which then judge the coordinates methods will use.
+  recentre_scene(scene);
 
   require(!scene.lights.empty(), "scene has no lights");
   const double scene_size = scene.bounds().diagonal();

@@ -76,13 +76,37 @@ std::string describe(const json& v) {
   fail(path, "expected " + what + " (got " + describe(got) + ")");
 }
 
-float as_number(const json& v, const std::string& path) {
+double as_double(const json& v, const std::string& path, double limit) {
   if (!v.is_number()) expected(path, "a number", v);
   const double d = v.get<double>();
   if (!std::isfinite(d)) fail(path, "must be a finite number");
-  if (std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max()))
-    fail(path, "number out of range");
-  return static_cast<float>(d);
+  if (std::fabs(d) > limit) fail(path, "number out of range");
+  return d;
+}
+
+float as_number(const json& v, const std::string& path) {
+  return static_cast<float>(
+      as_double(v, path, static_cast<double>(std::numeric_limits<float>::max())));
+}
+
+/// Positions are read in double and moved by −origin before they are rounded to float, so a scene
+/// far from the world origin keeps the precision it would have next to it (recentre_scene).
+/// Beyond 1e15 even double cannot place a detail of the scene's own size.
+constexpr double kMaxPosition = 1e15;
+
+double as_coordinate(const json& v, const std::string& path) {
+  if (v.is_number() && std::isfinite(v.get<double>()) && std::fabs(v.get<double>()) > kMaxPosition)
+    fail(path, "beyond 1e15 in magnitude (unsupported range)");
+  return as_double(v, path, kMaxPosition);
+}
+
+Vec3 as_position(const json& v, const std::string& path, const DVec3& origin) {
+  if (!v.is_array() || v.size() != 3) expected(path, "an array of 3 numbers", v);
+  Vec3 out;
+  for (int i = 0; i < 3; ++i)
+    out[i] =
+        static_cast<float>(as_coordinate(v[i], path + "[" + std::to_string(i) + "]") - origin[i]);
+  return out;
 }
 
 float as_positive(const json& v, const std::string& path) {
@@ -183,6 +207,9 @@ class Obj {
   }
   float positive(const std::string& key) const { return as_positive(req(key), at(key)); }
   Vec3 vec3(const std::string& key) const { return as_vec3(req(key), at(key)); }
+  Vec3 position(const std::string& key, const DVec3& origin) const {
+    return as_position(req(key), at(key), origin);
+  }
   Vec3 vec3(const std::string& key, Vec3 def) const {
     const json* v = find(key);
     return v ? as_vec3(*v, at(key)) : def;
@@ -318,11 +345,11 @@ class TextureCache {
   std::map<std::string, int> cache_;
 };
 
-Camera parse_camera(const json& j) {
+Camera parse_camera(const json& j, const DVec3& origin) {
   const Obj o(j, "camera", {"position", "target", "up", "fov_deg", "width", "height"});
   Camera c;
-  c.position = o.vec3("position");
-  c.target = o.vec3("target");
+  c.position = o.position("position", origin);
+  c.target = o.position("target", origin);
   c.up = o.vec3("up", c.up);
   c.vfov_deg = o.number("fov_deg", c.vfov_deg);
   if (!(c.vfov_deg > 0.0f && c.vfov_deg < 180.0f))
@@ -362,7 +389,7 @@ std::vector<Material> parse_materials(const json& j, TextureCache& textures) {
 }
 
 /// translate · rotate · scale, or an explicit matrix; world = M · local.
-Mat4 parse_transform(const json& j, const std::string& path) {
+Mat4 parse_transform(const json& j, const std::string& path, const DVec3& origin) {
   const Obj o(j, path, {"translate", "rotate_deg", "scale", "matrix"});
   Mat4 m(1.0f);
   if (const json* v = o.find("matrix")) {
@@ -372,11 +399,15 @@ Mat4 parse_transform(const json& j, const std::string& path) {
     if (!v->is_array() || v->size() != 16)
       expected(mpath, "an array of 16 numbers (row-major 4x4)", *v);
     for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) m[c][r] = as_number((*v)[r * 4 + c], element(mpath, r * 4 + c));
+      for (int c = 0; c < 4; ++c)
+        m[c][r] = c == 3 && r < 3
+                      ? static_cast<float>(
+                            as_coordinate((*v)[r * 4 + c], element(mpath, r * 4 + c)) - origin[r])
+                      : as_number((*v)[r * 4 + c], element(mpath, r * 4 + c));
     if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
       fail(mpath, "the last row must be [0, 0, 0, 1] (affine transforms only)");
   } else {
-    const Vec3 t = o.vec3("translate", Vec3(0.0f));
+    const Vec3 t = o.has("translate") ? o.position("translate", origin) : Vec3(-origin);
     const Vec3 r = glm::radians(o.vec3("rotate_deg", Vec3(0.0f)));
     Vec3 s(1.0f);
     if (const json* v = o.find("scale")) {
@@ -413,8 +444,11 @@ void apply_transform(Mesh& mesh, const Mat4& m, const std::string& path) {
     if (!is_finite(p)) fail(path, "produces non-finite vertex positions");
 }
 
+/// Mesh files already read, by path (a scene far from the origin is parsed twice).
+using LoadedMeshes = std::map<fs::path, Mesh>;
+
 Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& materials,
-                const fs::path& base) {
+                const fs::path& base, const DVec3& origin, LoadedMeshes& loaded) {
   const std::string path = element("meshes", index);
   if (!j.is_object()) expected(path, "an object", j);
   std::vector<std::string> allowed = {"name",      "file",          "shape",           "material",
@@ -439,28 +473,35 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
   }
   const Obj o(j, path, allowed);
 
+  // A transform carries the mesh to its place (its translation is moved by −origin); without one
+  // the shape's centre or the file's vertices are.
+  const json* transform = o.find("transform");
+  const DVec3 local_origin = transform ? DVec3(0.0) : origin;
   Mesh mesh;
   if (shape.empty()) {
     const fs::path file = resolve(base, o.string("file"));
     try {
-      mesh = load_mesh_file(file);
+      auto it = loaded.find(file);
+      if (it == loaded.end()) it = loaded.emplace(file, load_mesh_file(file)).first;
+      mesh = it->second;
     } catch (const Error& e) {
       fail(o.at("file"), e.what());
     }
     mesh.name = file.stem().string();
     mesh.source_file = fs::absolute(file).lexically_normal().string();
   } else if (shape == "quad") {
-    const Vec3 center = o.vec3("center"), eu = o.vec3("edge_u"), ev = o.vec3("edge_v");
+    const Vec3 center = o.position("center", local_origin), eu = o.vec3("edge_u"),
+               ev = o.vec3("edge_v");
     if (!(sine_between(DVec3(eu), DVec3(ev)) > kParallelSine))
       fail(path, "edge_u and edge_v span zero area");
     mesh = make_quad(center, eu, ev);
   } else if (shape == "box") {
-    const Vec3 center = o.vec3("center"), half = o.vec3("half_extent");
+    const Vec3 center = o.position("center", local_origin), half = o.vec3("half_extent");
     if (!(half.x > 0.0f && half.y > 0.0f && half.z > 0.0f))
       fail(o.at("half_extent"), "components must be positive");
     mesh = make_box(center, half);
   } else {
-    const Vec3 center = o.vec3("center");
+    const Vec3 center = o.position("center", local_origin);
     const float radius = o.positive("radius");
     const int rings = o.integer("rings", 16, 2, 1024);
     const int segments = o.integer("segments", 32, 3, 2048);
@@ -479,15 +520,16 @@ Mesh parse_mesh(const json& j, size_t index, const std::map<std::string, int>& m
   mesh.material = it->second;
   mesh.casts_shadows = o.boolean("casts_shadows", true);
   mesh.receives_shadows = o.boolean("receives_shadows", true);
-  if (const json* t = o.find("transform")) {
-    const Mat4 m = parse_transform(*t, o.at("transform"));
+  if (transform || (shape.empty() && origin != DVec3(0.0))) {
+    const Mat4 m = transform ? parse_transform(*transform, o.at("transform"), origin)
+                             : glm::translate(Mat4(1.0f), Vec3(-origin));
     apply_transform(mesh, m, o.at("transform"));
     if (!mesh.source_file.empty()) mesh.source_transform = m;
   }
   return mesh;
 }
 
-Light parse_light(const json& j, size_t index, TextureCache& textures) {
+Light parse_light(const json& j, size_t index, TextureCache& textures, const DVec3& origin) {
   const std::string path = element("lights", index);
   if (!j.is_object()) expected(path, "an object", j);
   if (!j.contains("type"))
@@ -512,7 +554,7 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
   }
   const Obj o(j, path, allowed);
   l.name = o.has("name") ? o.string("name") : path;
-  l.center = o.vec3("center");
+  l.center = o.position("center", origin);
   l.radiance = as_color(o.req("radiance"), o.at("radiance"), true);
   switch (l.shape) {
     case LightShape::rect:
@@ -540,11 +582,13 @@ Light parse_light(const json& j, size_t index, TextureCache& textures) {
   return l;
 }
 
-Scene parse_scene(const json& j, const fs::path& base) {
+/// The scene with every position moved by −origin (in double, before rounding to float).
+Scene parse_scene(const json& j, const fs::path& base, const DVec3& origin, LoadedMeshes& loaded) {
   const Obj root(j, "", {"camera", "lights", "materials", "meshes", "ambient"});
   Scene scene;
   TextureCache textures(scene, base);
-  scene.camera = parse_camera(root.req("camera"));
+  scene.camera = parse_camera(root.req("camera"), origin);
+  scene.origin = origin;
   if (const json* v = root.find("ambient")) scene.ambient = as_color(*v, "ambient", false);
 
   scene.materials = parse_materials(root.req("materials"), textures);
@@ -554,11 +598,11 @@ Scene parse_scene(const json& j, const fs::path& base) {
 
   const json& meshes = as_array(root.req("meshes"), "meshes", "meshes", "mesh");
   for (size_t i = 0; i < meshes.size(); ++i)
-    scene.meshes.push_back(parse_mesh(meshes[i], i, material_index, base));
+    scene.meshes.push_back(parse_mesh(meshes[i], i, material_index, base, origin, loaded));
 
   const json& lights = as_array(root.req("lights"), "lights", "lights", "light");
   for (size_t i = 0; i < lights.size(); ++i)
-    scene.lights.push_back(parse_light(lights[i], i, textures));
+    scene.lights.push_back(parse_light(lights[i], i, textures, origin));
   return scene;
 }
 
@@ -576,7 +620,14 @@ Scene load_scene_file(const fs::path& path) {
     const json j = parse_json(text.str());
     fs::path base = path.parent_path();
     if (base.empty()) base = ".";
-    Scene scene = parse_scene(j, base);
+    // Parsed once where it lies; a scene far from the origin is parsed again moved next to it,
+    // its positions subtracted in double (the mesh files are read once).
+    LoadedMeshes loaded;
+    Scene scene = parse_scene(j, base, DVec3(0.0), loaded);
+    if (const DVec3 offset = recentring_offset(scene); offset != DVec3(0.0)) {
+      scene = Scene{};
+      scene = parse_scene(j, base, offset, loaded);
+    }
     scene.name = path.stem().string();
     validate_scene(scene);
     return scene;

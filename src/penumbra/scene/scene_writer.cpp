@@ -20,11 +20,23 @@ json vec3(const Vec3& v) {
   return json::array({v.x, v.y, v.z});
 }
 
-/// Row-major 16 numbers (the scene format's `matrix`).
-json matrix(const Mat4& m) {
+/// A position in the file's (world) coordinates: the scene's plus its origin, in double.
+json position(const Vec3& v, const DVec3& origin) {
+  if (origin == DVec3(0.0)) return vec3(v);
+  const DVec3 w = DVec3(v) + origin;
+  return json::array({w.x, w.y, w.z});
+}
+
+/// Row-major 16 numbers (the scene format's `matrix`), its translation moved by `origin`.
+json matrix(const Mat4& m, const DVec3& origin) {
   json out = json::array();
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out.push_back(m[c][r]);
+    for (int c = 0; c < 4; ++c) {
+      if (c == 3 && r < 3 && origin != DVec3(0.0))
+        out.push_back(double{m[c][r]} + origin[r]);
+      else
+        out.push_back(m[c][r]);
+    }
   return out;
 }
 
@@ -116,8 +128,13 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
 
   json j;
   const Camera& c = scene.camera;
-  j["camera"] = {{"position", vec3(c.position)}, {"target", vec3(c.target)}, {"up", vec3(c.up)},
-                 {"fov_deg", c.vfov_deg},        {"width", c.width},         {"height", c.height}};
+  const DVec3& origin = scene.origin;
+  j["camera"] = {{"position", position(c.position, origin)},
+                 {"target", position(c.target, origin)},
+                 {"up", vec3(c.up)},
+                 {"fov_deg", c.vfov_deg},
+                 {"width", c.width},
+                 {"height", c.height}};
   j["ambient"] = vec3(scene.ambient);
 
   std::vector<std::string> texture_files(scene.textures.size());
@@ -155,12 +172,14 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
                {"receives_shadows", m.receives_shadows}};
     if (matches_source(m)) {
       jm["file"] = m.source_file;
-      if (m.source_transform != Mat4(1.0f))
-        jm["transform"] = {{"matrix", matrix(m.source_transform)}};
+      if (m.source_transform != Mat4(1.0f) || origin != DVec3(0.0))
+        jm["transform"] = {{"matrix", matrix(m.source_transform, origin)}};
     } else {
       const std::string name = std::to_string(i) + "_" + file_safe(m.name) + ".ply";
       write_ply(asset_dir() / name, m);
       jm["file"] = assets + "/" + name;
+      if (origin != DVec3(0.0))
+        jm["transform"] = {{"translate", json::array({origin.x, origin.y, origin.z})}};
     }
     j["meshes"].push_back(jm);
   }
@@ -169,7 +188,7 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   for (const Light& l : scene.lights) {
     json jl = {{"type", std::string(to_string(l.shape))},
                {"name", l.name},
-               {"center", vec3(l.center)},
+               {"center", position(l.center, origin)},
                {"radiance", vec3(l.radiance)}};
     if (l.shape == LightShape::rect) {
       jl["edge_u"] = vec3(l.edge_u);

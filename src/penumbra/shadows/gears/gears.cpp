@@ -174,7 +174,7 @@ class Gears final : public ShadowMethod {
     if (point) {
       corners = {Vec3(0.0f)};
     } else {
-      const float r = sphere ? light.radius : 0.0f;
+      const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
       light_max_z = r;
       for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
         for (int c = 0; c < 4; ++c)

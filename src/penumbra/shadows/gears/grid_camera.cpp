@@ -29,6 +29,13 @@ void set_inverse(LightSpace& s) {
   s.inv_n = Vec3(glm::cross(u, v) / det);
 }
 
+/// The power of two nearest to `length` (1 for 0 or non-finite): a unit that rescales the light
+/// space exactly, without rounding any coordinate.
+float power_of_two_near(float length) {
+  if (!(length > 0.0f) || !std::isfinite(length)) return 1.0f;
+  return std::exp2(std::round(std::log2(length)));
+}
+
 }  // namespace
 
 LightSpace make_light_space(const Light& light, const LightFrame& frame, const Vec3& toward,
@@ -41,7 +48,9 @@ LightSpace make_light_space(const Light& light, const LightFrame& frame, const V
       s.origin = frame.corner;
       s.axis_u = frame.edge_u;
       s.axis_v = frame.edge_v;
-      s.axis_n = sgn * frame.emit_normal;
+      s.axis_n = sgn *
+                 power_of_two_near(std::max(glm::length(frame.edge_u), glm::length(frame.edge_v))) *
+                 frame.emit_normal;
       break;
     case LightShape::point:
     case LightShape::sphere: {
@@ -49,9 +58,11 @@ LightSpace make_light_space(const Light& light, const LightFrame& frame, const V
       Vec3 t, b;
       orthonormal_basis(n, t, b);
       const float r = light.shape == LightShape::sphere ? light.radius : 0.5f;
-      s.axis_u = 2.0f * r * t;
-      s.axis_v = 2.0f * r * b;
-      s.axis_n = sgn * n;
+      const float unit =
+          power_of_two_near(light.shape == LightShape::sphere ? 2.0f * r : glm::length(toward));
+      s.axis_u = (light.shape == LightShape::sphere ? 2.0f * r : unit) * t;
+      s.axis_v = (light.shape == LightShape::sphere ? 2.0f * r : unit) * b;
+      s.axis_n = sgn * unit * n;
       // Point light: the light is the origin itself; sphere: its centre plane spans [0,1]².
       s.origin = light.shape == LightShape::point ? light.center : light.center - r * t - r * b;
       break;

@@ -16,6 +16,11 @@ namespace penumbra::gears {
 /// centre plane (r in z units). Depth z grows away from the light on the side being computed
 /// (`side` = −1 flips it), so every sample of one pass has z ≥ 0 [Wang 2014 §3.1: "the light is
 /// single sided and only casts rays in one of the half spaces"].
+/// |axis_n| (and a point light's |axis_u|, |axis_v|) is the power of two nearest to the light's
+/// size (a point light: its distance to the receivers), so every light-space coordinate is of
+/// order 1 at any scene scale and the assignment's and culls' float margins stay relative; a power
+/// of two rescales without rounding (with z in world units, a scene scaled by 1e-6 or 1e6 lost
+/// blockers: up to 4 % of the samples differed from raytrace).
 struct LightSpace {
   Vec3 origin{0.0f};
   Vec3 axis_u{1, 0, 0}, axis_v{0, 1, 0}, axis_n{0, 0, 1};
