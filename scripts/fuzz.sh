@@ -17,10 +17,12 @@ mkdir -p "$out"
 # The project's sources the targets exercise (core, io, scene), compiled with clang and the
 # sanitizers; the Debian libraries they use are linked as built.
 sources=(src/penumbra/core/*.cpp src/penumbra/io/*.cpp src/penumbra/scene/*.cpp)
+# The SIMD dispatch's target set, as CMakeLists.txt defines it for every module (core/simd.cpp).
+hwy_defines=(-DHWY_COMPILE_ALL_ATTAINABLE -DHWY_DISABLED_TARGETS=HWY_SSSE3)
 flags=(-std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
-       -fno-sanitize-recover=undefined -DGLM_FORCE_XYZW_ONLY -Isrc
+       -fno-sanitize-recover=undefined -DGLM_FORCE_XYZW_ONLY -Isrc "${hwy_defines[@]}"
        $(pkg-config --cflags OpenEXR stb))
-libs=($(pkg-config --libs OpenEXR assimp tbb stb zlib))
+libs=($(pkg-config --libs OpenEXR assimp tbb stb zlib libhwy))
 
 # Each source compiled once (rebuilt when it or any header is newer), shared by both targets; one
 # compiler per core.
@@ -97,7 +99,7 @@ done
 # The mesh corpus replayed under valgrind in a plain build: assimp is not instrumented, so ASan
 # misses its out-of-bounds writes, which corrupt the heap and crash much later (not on replay).
 if [[ " ${targets[*]} " == *" mesh "* ]]; then
-  compile "$out/obj_plain" g++ -std=c++20 -g -O1 -DGLM_FORCE_XYZW_ONLY -Isrc \
+  compile "$out/obj_plain" g++ -std=c++20 -g -O1 -DGLM_FORCE_XYZW_ONLY -Isrc "${hwy_defines[@]}" \
     $(pkg-config --cflags OpenEXR stb) -- "${sources[@]}" fuzz/fuzz_mesh.cpp fuzz/replay_main.cpp
   g++ "${objects[@]}" "${libs[@]}" -o "$out/replay_mesh"
   echo "replaying $(ls "$out/corpus_mesh" | wc -l) mesh inputs under valgrind"
