@@ -11,8 +11,10 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/suggest.hpp"
@@ -275,6 +277,180 @@ struct ScratchDir {
     std::ofstream(path / name) << text;
   }
 };
+
+/// Writes `bytes` to a fresh file `name` in the temporary folder; returns its path.
+std::string temp_file(const std::string& name, const std::string& bytes) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("penumbra_robustness_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name, std::ios::binary) << bytes;
+  return (dir / name).string();
+}
+
+/// A glTF holding one triangle-list mesh under a chain of `depth` nodes (depth 1: the root holds
+/// it), with its buffer inline: 4 float VEC3 positions (a quad) and `indices` (unsigned bytes).
+std::string gltf_text(int depth, const std::vector<int>& indices,
+                      const char* position_type = "VEC3", double root_scale = 1.0) {
+  static const char* const kB64 =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string bytes;
+  const float positions[12] = {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1};
+  bytes.append(reinterpret_cast<const char*>(positions), sizeof positions);
+  for (int i : indices) bytes.push_back(static_cast<char>(i));
+  while (bytes.size() % 3) bytes.push_back('\0');
+  std::string b64;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t v =
+        (uint8_t(bytes[i]) << 16) | (uint8_t(bytes[i + 1]) << 8) | uint8_t(bytes[i + 2]);
+    for (int k = 3; k >= 0; --k) b64 += kB64[(v >> (6 * k)) & 63];
+  }
+  std::string nodes;
+  for (int d = 0; d < depth; ++d) {
+    nodes += d ? "," : "";
+    nodes += d + 1 < depth ? "{\"children\": [" + std::to_string(d + 1) + "]" : "{\"mesh\": 0";
+    if (d == 0 && root_scale != 1.0) {
+      const std::string k = std::to_string(root_scale);
+      nodes += ", \"scale\": [" + k + ", " + k + ", " + k + "]";
+    }
+    nodes += "}";
+  }
+  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [)" +
+         nodes +
+         R"(], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "buffers": [{"byteLength": )" +
+         std::to_string(48 + indices.size()) +
+         R"(, "uri": "data:application/octet-stream;base64,)" + b64 + R"("}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                  {"buffer": 0, "byteOffset": 48, "byteLength": )" +
+         std::to_string(indices.size()) + R"(}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": ")" +
+         position_type + R"(", "min": [0, 0, 0], "max": [1, 0, 1]},
+                {"bufferView": 1, "componentType": 5121, "count": )" +
+         std::to_string(indices.size()) + R"(, "type": "SCALAR"}]})";
+}
+
+// glTF is validated before assimp: a 20 000-deep node chain overflowed assimp's stack (SIGSEGV),
+// nodes deeper than 1024 were dropped silently, an index out of range dropped its triangle, an
+// index count of 35 and VEC2 positions were read as garbled geometry.
+TEST(MeshFiles, GltfStructureIsValidatedBeforeAssimp) {
+  const std::vector<int> quad = {0, 1, 2, 0, 2, 3};
+  EXPECT_EQ(load_mesh_file(temp_file("ok.gltf", gltf_text(1, quad))).triangle_count(), 2u);
+  EXPECT_EQ(load_mesh_file(temp_file("deep_ok.gltf", gltf_text(1025, quad))).triangle_count(), 2u);
+  const std::pair<std::string, std::string> cases[] = {
+      {gltf_text(20000, quad), "glTF: node 1025 is 1025 levels deep (at most 1024 are read)"},
+      {gltf_text(1, {0, 1, 2, 0, 2, 4}), "assimp read 1 triangles where the file holds 2"},
+      {gltf_text(1, {0, 1, 2, 0, 2}), "5 indices, not a multiple of 3"},
+      {gltf_text(1, quad, "VEC2"), "POSITION must be a float VEC3 accessor (got VEC2)"},
+      {gltf_text(1, quad, "VEC3", 0.0), "every triangle of the file has zero area"},
+      {R"({"nodes": [{"children": [1]}, {"children": [0]}]})", "the node hierarchy has a cycle"},
+      {R"({"nodes": [{"children": [7]}]})", "node 0 refers to a missing nodes entry"},
+      {"{\"nodes\": [", "glTF: invalid JSON"},
+  };
+  for (const auto& [text, want] : cases) {
+    const std::string e = error_of([&] { load_mesh_file(temp_file("bad.gltf", text)); });
+    EXPECT_NE(e.find(want), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  // The binary container: the same checks on its JSON chunk, its header checked against the file.
+  std::string json = gltf_text(20000, quad);
+  while (json.size() % 4) json += ' ';
+  const auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string glb = "glTF" + u32(2) + u32(static_cast<uint32_t>(20 + json.size())) +
+                          u32(static_cast<uint32_t>(json.size())) + u32(0x4E4F534Au) + json;
+  EXPECT_NE(error_of([&] { load_mesh_file(temp_file("deep.glb", glb)); }).find("levels deep"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              load_mesh_file(temp_file("short.glb", glb.substr(0, 100)));
+            }).find("is not the file's 100 bytes"),
+            std::string::npos);
+}
+
+// Only the formats Penumbra validates are read: a 232-byte HL1 .mdl made assimp allocate 12 GB.
+TEST(MeshFiles, UnvalidatedFormatsAreRefused) {
+  for (const char* name : {"model.mdl", "model.fbx", "model.dae", "model", "model.3ds"}) {
+    const std::string e = error_of([&] { load_mesh_file(temp_file(name, "IDST\x0a")); });
+    EXPECT_NE(e.find("unsupported format"), std::string::npos) << name << ": " << e;
+    EXPECT_NE(e.find(".obj, .ply, .off, .stl, .gltf and .glb"), std::string::npos) << e;
+  }
+}
+
+// A NaN vertex was merged into another by assimp's JoinIdenticalVertices before the loader's NaN
+// check (the box loaded as 10 triangles); every format now refuses it. A mesh whose triangles
+// all have zero area loaded as 0 triangles.
+TEST(MeshFiles, NanVerticesAndAllDegenerateMeshesAreErrors) {
+  const std::string box_obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nf 1 2 3\nf 1 2 4\n";
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::string ply_binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, nan};
+  ply_binary.append(reinterpret_cast<const char*>(v), sizeof v);
+  const int32_t face[3] = {0, 1, 2};
+  ply_binary += '\3';
+  ply_binary.append(reinterpret_cast<const char*>(face), sizeof face);
+  const std::pair<std::string, std::string> cases[] = {
+      {"nan.obj", box_obj},
+      {"inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"},
+      {"nan.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+       "end_header\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n"},
+      {"nan_binary.ply", ply_binary},
+      {"nan.stl",
+       "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+       "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n"},
+  };
+  for (const auto& [name, bytes] : cases) {
+    const std::string e = error_of([&] { load_mesh_file(temp_file(name, bytes)); });
+    EXPECT_NE(e.find("NaN or infinite"), std::string::npos) << name << ": " << e;
+  }
+  const std::string e = error_of([&] {
+    load_mesh_file(temp_file("flat.obj", "v 0 0 0\nv 0.5 0 0\nv 1 0 0\nf 1 2 3\nf 1 3 2\n"));
+  });
+  EXPECT_NE(e.find("every triangle of the file has zero area"), std::string::npos) << e;
+}
+
+// Old Mac OBJ files end their lines with a lone CR: assimp reads them, the validator refused them.
+TEST(MeshFiles, ObjWithCrLineEndsIsRead) {
+  const Mesh m = load_mesh_file(temp_file("cr.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r"));
+  EXPECT_EQ(m.triangle_count(), 1u);
+  const std::string e =
+      error_of([&] { load_mesh_file(temp_file("cr_bad.obj", "v 0 0 0\r\nv 1 0\r\nf 1 2 3\r\n")); });
+  EXPECT_NE(e.find("OBJ line 2:"), std::string::npos) << e;  // CR LF counts as one line end
+}
+
+// Scene files: a path holding \u0000 was cut at the NUL (another file loaded), a NUL byte after the
+// JSON was ignored; an emission texture claiming 12000² texels cost gigabytes and minutes.
+TEST(SceneFiles, NulCharactersAndHugeEmissionTexturesAreRefused) {
+  const std::string tetra = temp_file("tetra.off",
+                                      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const std::string scene = R"({"camera": {"position": [0, 2, 4], "target": [0, 0, 0]},
+    "materials": [{"name": "g"}], "meshes": [{"file": "tetra.off)";
+  const std::string rest = R"(", "material": "g"}],
+    "lights": [{"type": "point", "center": [0, 3, 0], "radiance": 1}]})";
+  EXPECT_EQ(error_of([&] { load_scene_file(temp_file("ok.json", scene + rest)); }), "");
+  EXPECT_NE(error_of([&] {
+              load_scene_file(temp_file("nul.json", scene + "\\u0000.png" + rest));
+            }).find("meshes[0].file: must not contain a NUL character"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              load_scene_file(temp_file("trailing.json", scene + rest + std::string(1, '\0')));
+            }).find("a NUL byte at offset"),
+            std::string::npos);
+  // A PNG header claiming 4096 × 4096 (stb reads the size before any pixel).
+  std::string png = "\x89PNG\r\n\x1a\n";
+  png += std::string("\0\0\0\x0dIHDR", 8) + std::string("\0\0\x10\0\0\0\x10\0\x08\x02\0\0\0", 13);
+  png += std::string("\0\0\0\0", 4);  // CRC (stb does not check it)
+  temp_file("big.png", png);
+  const std::string lit = R"({"camera": {"position": [0, 2, 4], "target": [0, 0, 0]},
+    "materials": [{"name": "g"}], "meshes": [{"file": "tetra.off", "material": "g"}],
+    "lights": [{"type": "rect", "center": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1],
+                "radiance": 1, "emission_texture": "big.png"}]})";
+  const std::string e = error_of([&] { load_scene_file(temp_file("big.json", lit)); });
+  EXPECT_NE(e.find("is 4096x4096, more than 4194304 texels"), std::string::npos) << e;
+  std::filesystem::remove_all(std::filesystem::path(tetra).parent_path());
+}
 
 // A FIFO or a device as scene, mesh or texture was read forever; now each is refused at once.
 TEST(SpecialFiles, FifoAndDevicesAreRefused) {

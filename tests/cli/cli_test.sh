@@ -131,6 +131,10 @@ expect_error "light-size" render --scene "$work/tetra.obj" --method exact --ligh
 # Bad input: clear one-line errors.
 expect_error "unknown scene" render --scene nosuchscene --method exact --out "$work/x"
 expect_error "unknown method" render --scene quad --method nosuch --out "$work/x"
+# A device index beyond size_t was "internal error: stoul"; it matches no device (with Vulkan) or
+# names the missing backend (without).
+expect_error "vulkan" render --scene quad --method gears --backend vulkan \
+  --vk-device 99999999999999999999 --size 16x16 --out "$work/x"
 expect_error "has no option" render --scene quad --method raytrace --set raytrace.nosuch=1 --out "$work/x"
 expect_error "is not one of" render --scene quad --method raytrace --set raytrace.path=warp --out "$work/x"
 expect_error "expected method.option=value" render --scene quad --method raytrace --set nodot --out "$work/x"

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -124,8 +125,11 @@ VkPhysicalDevice choose_device(const std::vector<VkPhysicalDevice>& devices,
       return std::isdigit(static_cast<unsigned char>(c));
     });
     if (numeric) {
-      const size_t i = std::stoul(selector);
-      if (i < devices.size()) return devices[i];
+      // An index too large for size_t matches no device either (std::stoul threw "stoul").
+      size_t i = 0;
+      const auto [end, ec] = std::from_chars(selector.data(), selector.data() + selector.size(), i);
+      if (ec == std::errc{} && end == selector.data() + selector.size() && i < devices.size())
+        return devices[i];
     } else {
       for (VkPhysicalDevice d : devices)
         if (lower(name_of(d)).find(lower(selector)) != std::string::npos) return d;
@@ -133,7 +137,7 @@ VkPhysicalDevice choose_device(const std::vector<VkPhysicalDevice>& devices,
     std::string list;
     for (size_t i = 0; i < devices.size(); ++i)
       list += (i ? ", " : "") + std::to_string(i) + ": " + name_of(devices[i]);
-    throw Error("vulkan: no device matches '" + selector + "' (devices: " + list + ")");
+    throw Error("vulkan: no device matches " + quote(selector, 40) + " (devices: " + list + ")");
   }
   for (VkPhysicalDevice d : devices) {
     VkPhysicalDeviceProperties p;

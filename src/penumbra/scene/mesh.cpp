@@ -1,5 +1,7 @@
 #include "penumbra/scene/mesh.hpp"
 
+#include <algorithm>
+
 namespace penumbra {
 
 Bounds3 Mesh::bounds() const {
@@ -19,6 +21,15 @@ void transform_mesh(Mesh& mesh, const Mat4& m) {
   if (glm::determinant(glm::mat3(m)) < 0.0f) {  // a mirror: keep triangles facing outward
     for (Triangle& t : mesh.triangles) std::swap(t.v[1], t.v[2]);
   }
+}
+
+bool is_degenerate(const Mesh& mesh, const Triangle& t) {
+  constexpr double kDegenerateRelative = 1e-10;
+  const DVec3 a(mesh.positions[t.v[0]]), b(mesh.positions[t.v[1]]), c(mesh.positions[t.v[2]]);
+  const DVec3 e1 = b - a, e2 = c - a, e3 = c - b;
+  const double longest2 = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+  const double twice_area = glm::length(glm::cross(e1, e2));
+  return !(twice_area > kDegenerateRelative * longest2);
 }
 
 }  // namespace penumbra

@@ -46,4 +46,9 @@ struct Mesh {
 /// floats.
 void transform_mesh(Mesh& mesh, const Mat4& m);
 
+/// A triangle is degenerate when its area vanishes relative to its longest edge, in double:
+/// |e1 × e2| ≤ 1e-10 · L². Relative, so a 5e9 quad and a 1e-12 one survive alike; only collapsed
+/// vertices and collinear corners (to well below float rounding) go.
+bool is_degenerate(const Mesh& mesh, const Triangle& t);
+
 }  // namespace penumbra

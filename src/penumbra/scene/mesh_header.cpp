@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -46,11 +47,20 @@ bool parse_int(std::string_view token, int64_t& value) {
   return ec == std::errc{} && end == token.data() + token.size();
 }
 
-bool parse_number(std::string_view token) {
+bool parse_number(std::string_view token, double* out = nullptr) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (out) *out = value;
   return ec == std::errc{} && end == token.data() + token.size();
+}
+
+/// A vertex coordinate: a number that is finite in float. Checked here because assimp's
+/// JoinIdenticalVertices would merge a NaN vertex into another before the loader could see it.
+bool parse_coordinate(std::string_view token) {
+  double value = 0.0;
+  return parse_number(token, &value) && std::isfinite(value) &&
+         std::abs(value) <= std::numeric_limits<float>::max();
 }
 
 /// Reads lines of `bytes` from `pos`; returns false at the end of the data.
@@ -179,13 +189,28 @@ class PlyBody {
     return pos_ < line_end_;
   }
 
-  /// Skips one value of any type (checking an ASCII token is a number).
-  void skip(PlyType t, const char* what) {
+  /// Skips one value of any type (checking an ASCII token is a number); false when `coordinate`
+  /// and the value is not finite in float.
+  bool skip(PlyType t, const char* what, bool coordinate = false) {
     if (format_ == PlyFormat::ascii) {
-      if (!parse_number(token(what))) bad(std::string("PLY: ") + what + " is not a number");
-    } else {
-      take(ply_size(t), what);
+      const std::string_view s = token(what);
+      if (!parse_number(s)) bad(std::string("PLY: ") + what + " is not a number");
+      return !coordinate || parse_coordinate(s);
     }
+    const unsigned char* p = take(ply_size(t), what);
+    if (!coordinate || (t != PlyType::float32 && t != PlyType::float64)) return true;
+    const size_t n = ply_size(t);
+    unsigned char b[8];
+    for (size_t k = 0; k < n; ++k) b[k] = p[format_ == PlyFormat::big_endian ? n - 1 - k : k];
+    double value = 0.0;
+    if (t == PlyType::float32) {
+      float f = 0.0f;
+      std::memcpy(&f, b, 4);
+      value = f;
+    } else {
+      std::memcpy(&value, b, 8);
+    }
+    return std::isfinite(value) && std::abs(value) <= std::numeric_limits<float>::max();
   }
 
  private:
@@ -320,7 +345,9 @@ MeshFileCounts validate_ply(std::string_view bytes) {
         const bool indices = is_face && (p.name == "vertex_indices" || p.name == "vertex_index");
         if (!indices && !reader.has_value()) break;  // a short ASCII record, as assimp allows
         if (!p.list) {
-          reader.skip(p.type, e.name.c_str());
+          const bool coordinate = &e == vertex && (p.name == "x" || p.name == "y" || p.name == "z");
+          if (!reader.skip(p.type, e.name.c_str(), coordinate))
+            bad("PLY: vertex " + std::to_string(r) + " has a NaN or infinite coordinate");
           continue;
         }
         const int64_t n = reader.integer(p.count_type, "a list count");
@@ -395,7 +422,10 @@ MeshFileCounts validate_off(std::string_view bytes) {
           " vertices");
     if (t.size() < dimension) bad("OFF: vertex " + std::to_string(v) + " has too few coordinates");
     for (size_t k = 0; k < dimension; ++k)
-      if (!parse_number(t[k])) bad("OFF: vertex " + std::to_string(v) + " is not numeric");
+      if (!parse_number(t[k]))
+        bad("OFF: vertex " + std::to_string(v) + " is not numeric");
+      else if (k < 3 && !parse_coordinate(t[k]))
+        bad("OFF: vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
   }
   for (uint64_t f = 0; f < nf; ++f) {
     if (!next_content_line(bytes, pos, t))
@@ -420,6 +450,16 @@ MeshFileCounts validate_off(std::string_view bytes) {
 /// point reference `v`, `v/t`, `v//n` or `v/t/n` a nonzero index within the elements defined so
 /// far (negative: relative to the end, as the format allows). Grouping, smoothing and material
 /// statements pass; any other statement is refused by name.
+/// An OBJ line: ends at LF, CR LF or a lone CR (old Mac files), as assimp's OBJ parser reads it.
+bool next_obj_line(std::string_view bytes, size_t& pos, std::string_view& line) {
+  if (pos >= bytes.size()) return false;
+  const size_t end = bytes.find_first_of("\r\n", pos);
+  const size_t stop = end == std::string_view::npos ? bytes.size() : end;
+  line = bytes.substr(pos, stop - pos);
+  pos = stop + (stop + 1 < bytes.size() && bytes[stop] == '\r' && bytes[stop + 1] == '\n' ? 2 : 1);
+  return true;
+}
+
 void validate_obj(std::string_view bytes) {
   uint64_t defined[3] = {0, 0, 0};  // v, vt, vn so far
   size_t pos = 0, line_no = 0;
@@ -448,7 +488,7 @@ void validate_obj(std::string_view bytes) {
     }
   };
   std::vector<std::string_view> t;
-  while (next_line(bytes, pos, line)) {
+  while (next_obj_line(bytes, pos, line)) {
     ++line_no;
     const size_t hash = line.find('#');
     if (hash != std::string_view::npos) line = line.substr(0, hash);
@@ -464,6 +504,8 @@ void validate_obj(std::string_view bytes) {
     };
     if (key == "v") {
       numbers(3, 7);  // x y z [w], or x y z r g b
+      for (size_t k = 1; k <= 3; ++k)
+        if (!parse_coordinate(t[k])) bad(where() + "NaN or infinite vertex coordinate");
       ++defined[0];
     } else if (key == "vt") {
       numbers(1, 3);
@@ -543,6 +585,8 @@ MeshFileCounts validate_stl(std::string_view bytes) {
     } else if (key == "vertex") {
       expect(at == At::loop && vertices < 3, "at most three vertices inside 'outer loop'");
       numbers(1);
+      for (size_t k = 1; k < t.size(); ++k)
+        if (!parse_coordinate(t[k])) bad(where() + "NaN or infinite vertex coordinate");
       ++vertices;
     } else if (key == "endloop") {
       expect(at == At::loop && vertices == 3, "three vertices before 'endloop'");

@@ -18,6 +18,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
+#include "penumbra/scene/gltf_header.hpp"
 #include "penumbra/scene/mesh_header.hpp"
 #include "penumbra/scene/off_reader.hpp"
 
@@ -37,7 +38,8 @@ struct MeshInstance {
 
 void collect_instances(const aiScene& scene, const aiNode* node, const aiMatrix4x4& parent,
                        std::vector<MeshInstance>& out, int depth) {
-  if (!node || depth > 1024) return;  // ValidateDataStructure rejects cycles; stay safe anyway
+  // validate_gltf bounds the depth of the only hierarchical format read; stay safe anyway.
+  if (!node || depth > kMaxGltfNodeDepth) return;
   const aiMatrix4x4 transform = parent * node->mTransformation;
   for (unsigned i = 0; i < node->mNumMeshes; ++i) {
     const unsigned index = node->mMeshes[i];
@@ -106,6 +108,9 @@ Mesh merge(const std::filesystem::path& path, const std::vector<MeshInstance>& i
     }
   }
   if (out.triangles.empty()) fail(path, "the file has no triangles");
+  if (std::all_of(out.triangles.begin(), out.triangles.end(),
+                  [&](const Triangle& t) { return is_degenerate(out, t); }))
+    fail(path, "every triangle of the file has zero area");
 
   // Unit shading normals; a file with unusable (zero or non-finite) normals falls back to flat
   // shading rather than feeding NaNs to the renderer.
@@ -149,6 +154,19 @@ std::string lowercase_extension(const std::filesystem::path& path) {
   return ext;
 }
 
+/// The formats Penumbra reads: those it validates before assimp parses them. Assimp's other
+/// importers trust their files (a 232-byte HL1 .mdl makes one allocate 12 GB).
+constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+
+void require_supported_format(const std::filesystem::path& path, const std::string& extension) {
+  for (const char* e : kMeshExtensions)
+    if (extension == e) return;
+  fail(path, "unsupported format " +
+                 quote(extension.empty() ? path.filename().string() : extension, 40) +
+                 " (Penumbra reads .obj, .ply, .off, .stl, .gltf and .glb; convert others, e.g. "
+                 "with assimp export)");
+}
+
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
@@ -157,12 +175,17 @@ Mesh load_mesh_file(const std::filesystem::path& path) {
   // full before assimp sees them (mesh_header.hpp).
   std::optional<MeshFileCounts> counts;
   try {
-    const std::string bytes = read_file(path);
+    require_regular_file(path, "cannot load mesh");  // first: a FIFO says so whatever its name
     const std::string extension = lowercase_extension(path);
+    require_supported_format(path, extension);
+    const std::string bytes = read_file(path);
     if (extension == ".off")
       if (std::optional<Mesh> mesh = read_plain_off(bytes, path.stem().string()))
         return std::move(*mesh);
-    counts = validate_mesh_file(bytes, extension);
+    if (extension == ".gltf" || extension == ".glb")
+      counts = validate_gltf(bytes, extension == ".glb");
+    else
+      counts = validate_mesh_file(bytes, extension);
   } catch (const Error& e) {
     if (std::string_view(e.what()).rfind("cannot load mesh", 0) == 0) throw;
     fail(path, e.what());
@@ -198,7 +221,8 @@ Mesh import_mesh_file(const std::filesystem::path& path,
     // Assimp must have read what the validated file holds: no clamped or invented faces.
     if (counts && mesh.triangles.size() != counts->triangles)
       fail(path, "assimp read " + std::to_string(mesh.triangles.size()) +
-                     " triangles where the file holds " + std::to_string(counts->triangles));
+                     " triangles where the file holds " + std::to_string(counts->triangles) +
+                     " (it drops faces with an index beyond the vertex count)");
     return mesh;
   } catch (const Error&) {
     throw;

@@ -47,22 +47,11 @@ bool in_range(const Vec3& v) {
   return is_finite(v) && max_abs(dvec(v)) <= kMaxCoordinate;
 }
 
-/// A triangle is degenerate when its area vanishes relative to its longest edge, in double:
-/// |e1 × e2| ≤ kDegenerateRelative · L². Relative, so a 5e9 quad and a 1e-12 one survive alike
-/// (float area² overflowed and underflowed there); only collapsed vertices and collinear corners
-/// (to well below float rounding) go.
-constexpr double kDegenerateRelative = 1e-10;
-
+/// Removes the degenerate triangles (is_degenerate: float area² overflowed and underflowed for
+/// 5e9 and 1e-12 quads before the test became relative).
 size_t remove_degenerate_triangles(Mesh& mesh) {
   const size_t before = mesh.triangles.size();
-  std::erase_if(mesh.triangles, [&](const Triangle& t) {
-    const DVec3 a = dvec(mesh.positions[t.v[0]]), b = dvec(mesh.positions[t.v[1]]),
-                c = dvec(mesh.positions[t.v[2]]);
-    const DVec3 e1 = b - a, e2 = c - a, e3 = c - b;
-    const double longest2 = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
-    const double twice_area = glm::length(glm::cross(e1, e2));
-    return !(twice_area > kDegenerateRelative * longest2);
-  });
+  std::erase_if(mesh.triangles, [&](const Triangle& t) { return is_degenerate(mesh, t); });
   return before - mesh.triangles.size();
 }
 
