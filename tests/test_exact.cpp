@@ -577,6 +577,18 @@ TEST(Exact, EdgeCancellationKeepsTheUnion) {
   EXPECT_GT(tested, 10);
 }
 
+/// V at p by Clipper's direct union of every triangle `scene` projects (no edge skipped, no
+/// triangle culled, one polygon operation): the oracle of exact's sweeps.
+double direct_union_visibility(const ExactScene& scene, const Light& l, const ExactLight& light,
+                               const Vec3& p) {
+  ClipperLib::Clipper c;
+  c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
+  c.AddPaths(projected_triangles(scene, l, p), ClipperLib::ptClip, true);
+  ClipperLib::Paths left;
+  c.Execute(ClipperLib::ctDifference, left, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return paths_area(left) / light.outline().area;
+}
+
 TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
   // exact_visibility never projects the shared edges of kept mesh triangles (nor the triangles
   // inside the pyramid whose three neighbours are kept): its V must equal the area left by
@@ -594,13 +606,7 @@ TEST(Exact, AdjacencySkippedEdgesKeepTheUnion) {
     double max_diff = 0.0;
     for (int k = 0; k < 30; ++k) {
       const Vec3 p(-1.2f + 2.4f * rng.next_float(), 0.0f, -1.2f + 2.4f * rng.next_float());
-      const ClipperLib::Paths polys = projected_triangles(full, s.lights[0], p);
-      ClipperLib::Clipper c;
-      c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
-      c.AddPaths(polys, ClipperLib::ptClip, true);
-      ClipperLib::Paths left;
-      c.Execute(ClipperLib::ctDifference, left, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-      const double direct = paths_area(left) / light.outline().area;
+      const double direct = direct_union_visibility(full, s.lights[0], light, p);
       if (direct < 1.0 - 1e-9) ++shadowed;
       for (const ExactScene* scene : {&es, &full}) {
         const double v = exact_visibility(*scene, light, p).visible;
@@ -643,20 +649,15 @@ TEST(Exact, StackedTrianglesEqualTheirDirectUnionAndSampling) {
   int penumbra = 0;
   for (const float x : {-0.06f, -0.02f, 0.03f, 0.6f, 0.75f, 0.9f}) {
     const Vec3 p(x, 0.0f, 0.3f);
-    const ClipperLib::Paths polys = projected_triangles(es, s.lights[0], p);
-    ClipperLib::Clipper c;
-    c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
-    c.AddPaths(polys, ClipperLib::ptClip, true);
-    ClipperLib::Paths left;
-    c.Execute(ClipperLib::ctDifference, left, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    const double direct = paths_area(left) / light.outline().area;
+    const size_t polygons = projected_triangles(es, s.lights[0], p).size();
+    const double direct = direct_union_visibility(es, s.lights[0], light, p);
     const ExactPointResult r = exact_visibility(es, light, p);
     EXPECT_NEAR(r.visible, direct, 1e-9) << "x " << x;
     const double sampled = brute_force(s, s.lights[0], p, 128);
     EXPECT_NEAR(r.visible, sampled, 3e-3) << "x " << x;
-    penumbra += r.visible > 0.02 && r.visible < 0.98 && polys.size() > 500 ? 1 : 0;
-    std::printf("stack x %.2f: %zu polygons, exact %.6f direct %.6f sampled %.6f\n", x,
-                polys.size(), r.visible, direct, sampled);
+    penumbra += r.visible > 0.02 && r.visible < 0.98 && polygons > 500 ? 1 : 0;
+    std::printf("stack x %.2f: %zu polygons, exact %.6f direct %.6f sampled %.6f\n", x, polygons,
+                r.visible, direct, sampled);
   }
   EXPECT_GE(penumbra, 4);
 }
@@ -704,13 +705,7 @@ TEST(Exact, ManyMeshesInThePyramidEqualTheirDirectUnion) {
   double max_diff = 0.0;
   for (int k = 0; k < 12; ++k) {
     const Vec3 p(-0.5f + 1.0f * rng.next_float(), 0.0f, -0.5f + 1.0f * rng.next_float());
-    const ClipperLib::Paths polys = projected_triangles(full, s.lights[0], p);
-    ClipperLib::Clipper c;
-    c.AddPath(light.outline().path, ClipperLib::ptSubject, true);
-    c.AddPaths(polys, ClipperLib::ptClip, true);
-    ClipperLib::Paths left;
-    c.Execute(ClipperLib::ctDifference, left, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    const double direct = paths_area(left) / light.outline().area;
+    const double direct = direct_union_visibility(full, s.lights[0], light, p);
     for (const ExactScene* scene : {&culled, &full}) {
       const ExactPointResult r = exact_visibility(*scene, light, p);
       max_diff = std::max(max_diff, std::abs(r.visible - direct));

@@ -58,10 +58,6 @@ typedef int32_t vi __attribute__((vector_size(W * 4)));
 typedef uint32_t vu __attribute__((vector_size(W * 4)));
 
 alignas(64) constexpr int32_t kIota[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-alignas(64) constexpr int32_t kBit[16] = {1 << 0,  1 << 1,  1 << 2,  1 << 3, 1 << 4,  1 << 5,
-                                          1 << 6,  1 << 7,  1 << 8,  1 << 9, 1 << 10, 1 << 11,
-                                          1 << 12, 1 << 13, 1 << 14, 1 << 15};
-
 template <class V, class T>
 inline V load_as(const T* p) {
   V r;
@@ -115,11 +111,6 @@ inline uint32_t movemask(vi m) {
   for (int l = 0; l < W; ++l) bits |= static_cast<uint32_t>(m[l] != 0) << l;
   return bits;
 #endif
-}
-
-/// Bits of `bits` as lanes of a comparison-style vector (−1 or 0).
-inline vi lane_mask(uint32_t bits) {
-  return (splati(static_cast<int32_t>(bits)) & loadi(kBit)) != 0;
 }
 
 /// Lanes l of register h (lanes h … h + W − 1 of a 16-lane batch) below `live` batch lanes.
