@@ -50,28 +50,34 @@ std::string format_table(const std::vector<TableRow>& rows) {
              fmt("%.4f", e.max_abs) + " | " + fmt("%.5f", e.rmse) + " | " +
              fmt("%.4f", e.frac_over_1_255) + " |\n";
     } else {
-      out += r.method == "exact" ? " | (reference) | | | | |\n" : " | - | - | - | - | - |\n";
+      out += r.reference ? " | (reference) | | | | |\n" : " | - | - | - | - | - |\n";
     }
   }
   return out;
 }
 
-std::string table_column_key() {
+std::string table_column_key(const std::string& reference) {
+  const std::string v_ref = reference == "exact" ? "V_exact" : "V_ref";
   return "- **time**: the method's own time for every light of the frame, in milliseconds (the "
          "shared BVH and G-buffer excluded); wall-clock, so it varies with the machine's load.\n"
          "- **speed vs raytrace**: `raytrace` time / method time, both from this run "
          "(> 1 = faster than Embree).\n"
-         "- Errors are against `exact`, on the visible fraction V of each light (0 = umbra, "
-         "1 = lit), over the surface pixels of every light:\n"
-         "  **mean abs (shadowed)** = mean |V − V_exact| over the pixels `exact` puts in umbra or "
-         "penumbra [Atty 2006 §4.2.1]; **mean abs** = over every surface pixel; **max abs** = "
+         "- Errors are against `" +
+         reference +
+         "`, on the visible fraction V of each light (0 = umbra, 1 = lit), over the surface "
+         "pixels of every light:\n"
+         "  **mean abs (shadowed)** = mean |V − " +
+         v_ref + "| over the pixels `" + reference +
+         "` puts in umbra or penumbra [Atty 2006 §4.2.1]; **mean abs** = over every surface pixel; "
+         "**max abs** = "
          "worst pixel; **rmse** = root mean square; **> 1/255** = fraction of pixels whose error "
          "shows in an 8-bit image.\n";
 }
 
 std::string format_summary(const std::vector<TableRow>& rows, const Frame& frame,
-                           const std::string& shading) {
-  return summary_header(frame, shading) + "\n" + format_table(rows) + "\n" + table_column_key();
+                           const std::string& shading, const std::string& reference) {
+  return summary_header(frame, shading) + "\n" + format_table(rows) + "\n" +
+         table_column_key(reference);
 }
 
 nlohmann::json table_json(const std::vector<TableRow>& rows, const Frame& frame) {
