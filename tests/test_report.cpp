@@ -86,6 +86,16 @@ TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
       EXPECT_GT(m["times_ms"]["total"].get<double>(), 0.0);
       EXPECT_TRUE(m.contains("frame"));
     }
+    // The rays raytrace traces per pixel in each method's time [Wang 2014 Table 11]: its own 16
+    // samples in its own time.
+    const auto& rt = scene["methods"][1];
+    ASSERT_EQ(rt["method"], "raytrace");
+    EXPECT_DOUBLE_EQ(rt["equal_time_rays"].get<double>(), 16.0);
+    const auto& pcss = scene["methods"][2];
+    EXPECT_NEAR(
+        pcss["equal_time_rays"].get<double>(),
+        16.0 * pcss["times_ms"]["total"].get<double>() / rt["times_ms"]["total"].get<double>(),
+        1e-6 * pcss["equal_time_rays"].get<double>());
   }
   // The report's numbers are the pipeline's: raytrace on quad, recomputed directly.
   Scene quad = make_builtin_scene("quad");

@@ -126,6 +126,13 @@ std::string v_ref(const std::string& reference) {
   return reference == "exact" ? "V_exact" : "V_ref";
 }
 
+/// Rays per pixel `raytrace` traces in the method's time (summary_table.hpp).
+double rays_in_same_time(const SceneEntry& s, const MethodEntry& m) {
+  const MethodEntry* rt = s.find("raytrace");
+  if (!rt || !rt->stats.contains("samples")) return std::nan("");
+  return equal_time_rays(rt->stats["samples"]["count"].get<int>(), rt->ms, m.ms);
+}
+
 std::string caption(const SceneEntry& s, const MethodEntry& m) {
   std::string c = "<figcaption><b>" + xml_escape(m.method) + "</b> <span>";
   if (!m.failure.empty()) return c + "failed</span></figcaption>";
@@ -185,16 +192,18 @@ std::string cell(double v, const char* format) {
 std::string metrics_table(const SceneEntry& s) {
   std::ostringstream o;
   o << "<table class='sortable'><thead><tr><th>method</th><th>time (ms)</th>"
-       "<th>speed vs raytrace</th><th>mean abs (shadowed)</th><th>mean abs</th><th>max abs</th>"
+       "<th>speed vs raytrace</th><th>rays in same time</th><th>mean abs (shadowed)</th><th>mean "
+       "abs</th><th>max abs</th>"
        "<th>rmse</th><th>PSNR (dB)</th><th>&gt; 1/255</th><th>&gt; 1/16</th></tr></thead><tbody>\n";
   for (const MethodEntry& m : s.methods) {
     o << "<tr><td data-v='" << xml_escape(m.method) << "'>" << xml_escape(m.method) << "</td>";
     if (!m.failure.empty()) {
-      o << "<td class='failed' colspan='9' data-v=''>failed: " << xml_escape(m.failure)
+      o << "<td class='failed' colspan='10' data-v=''>failed: " << xml_escape(m.failure)
         << "</td></tr>\n";
       continue;
     }
-    o << cell(m.ms, "%.1f") << cell(speed_vs_raytrace(s, m), "%.2f×");
+    o << cell(m.ms, "%.1f") << cell(speed_vs_raytrace(s, m), "%.2f×")
+      << cell(rays_in_same_time(s, m), "%.0f");
     if (m.vs_exact) {
       const ErrorStats& e = *m.vs_exact;
       o << cell(e.mean_abs_shadowed, "%.5f") << cell(e.mean_abs, "%.5f") << cell(e.max_abs, "%.4f")
@@ -407,6 +416,8 @@ nlohmann::json report_json(const ReportData& d) {
       if (!m.failure.empty()) jm["failure"] = m.failure;
       const double speed = speed_vs_raytrace(s, m);
       if (std::isfinite(speed)) jm["speed_vs_raytrace"] = speed;
+      const double rays = rays_in_same_time(s, m);
+      if (std::isfinite(rays)) jm["equal_time_rays"] = rays;
       js["methods"].push_back(jm);
     }
     j["scenes"].push_back(js);

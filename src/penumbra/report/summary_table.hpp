@@ -24,8 +24,15 @@ struct TableRow {
 /// What the table is about, one line: scene, size, light samples and pattern, shading.
 std::string summary_header(const Frame& frame, const std::string& shading);
 
-/// A Markdown table: method, time, speed relative to `raytrace` of the same run, error vs exact.
-std::string format_table(const std::vector<TableRow>& rows);
+/// A Markdown table: method, time, speed relative to `raytrace` of the same run, the rays per
+/// pixel `raytrace` traces in the method's time (`samples` rays per pixel in its own), error vs
+/// the reference.
+std::string format_table(const std::vector<TableRow>& rows, int samples);
+
+/// Rays per pixel `raytrace` (tracing `samples` rays per pixel in `raytrace_ms`) traces in
+/// `method_ms`: the light-sampling resolution ray tracing affords at the method's frame rate
+/// [Wang 2014 Table 11]. NaN without a positive raytrace time.
+double equal_time_rays(int samples, double raytrace_ms, double method_ms);
 
 /// What each column of format_table means (Markdown list); `reference` names what the errors are
 /// against (`exact`, or e.g. `raytrace 64×64`).
