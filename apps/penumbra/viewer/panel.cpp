@@ -240,8 +240,9 @@ void Viewer::stats_panel() {
   ImGui::Text("latency %.0f ms (edit to shown)",
               std::chrono::duration<double, std::milli>(s.finished - s.job.submitted).count());
   if (picture_info_.error)
-    ImGui::Text("vs exact: mean %.2e  max %.3f  rmse %.2e", picture_info_.error->mean_abs,
-                picture_info_.error->max_abs, picture_info_.error->rmse);
+    ImGui::Text("vs %s: mean %.2e  max %.3f  rmse %.2e", reference_label(args_).c_str(),
+                picture_info_.error->mean_abs, picture_info_.error->max_abs,
+                picture_info_.error->rmse);
   if (!ImGui::CollapsingHeader("Stages and counters")) return;
   for (const MethodResult& r : s.results)
     for (size_t l = 0; l < r.per_light.size(); ++l) {

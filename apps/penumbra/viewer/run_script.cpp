@@ -1,5 +1,6 @@
 // The script's commands, run by the UI loop between frames: each returns false to be asked again
 // on the next frame (a `wait` for the final frame, a `sleep`), true when it is done.
+#include <cmath>
 #include <thread>
 
 #include "penumbra/core/error.hpp"
@@ -107,6 +108,19 @@ bool Viewer::run_command(const ScriptCommand& c) {
       if (!at_final_frame()) return false;
       save_scene(c.words[0]);
       return true;
+    case ScriptOp::save_error:
+      if (!at_final_frame()) return false;
+      save_error(c.words[0]);
+      return true;
+    case ScriptOp::light: {
+      const double n = c.numbers[0];
+      if (n != std::floor(n) || n < 0 || n >= static_cast<double>(state_.lights.size()))
+        throw Error("light: the scene's lights are 0 to " +
+                    std::to_string(state_.lights.size() - 1) + ", not " + c.words[0]);
+      light_ = static_cast<int>(n);
+      picture_dirty_ = true;  // the visibility and error views show the light edited
+      return true;
+    }
     case ScriptOp::quit:
       quit_ = true;
       return true;

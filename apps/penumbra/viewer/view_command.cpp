@@ -60,6 +60,13 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--settle-ms", args->viewer.settle_ms,
                   "Milliseconds without an edit after which the full-size frame is computed")
       ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--reference", args->viewer.reference,
+                  "What the error views compare against: exact, or raytrace with "
+                  "--reference-samples² samples (for scenes where exact is too slow)")
+      ->check(CLI::IsMember({"exact", "raytrace"}));
+  cmd->add_option("--reference-samples", args->viewer.reference_samples,
+                  "K: the raytrace reference's K×K light samples")
+      ->check(CLI::Range(1, 64));
   cmd->add_flag("--trace", args->viewer.trace,
                 "Print one line per frame shown: where its time went, and its latency");
   add_framing_options(*cmd, args->framing);
