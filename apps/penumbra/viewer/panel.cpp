@@ -116,11 +116,10 @@ void Viewer::draw_image() {
 
 void Viewer::method_panel() {
   if (!ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const MethodRegistry& registry = MethodRegistry::builtin();
   if (ImGui::BeginCombo("method", state_.method.c_str())) {
-    for (const MethodInfo& m : registry.methods()) {
-      if (ImGui::Selectable(m.name.c_str(), m.name == state_.method)) choose_method(m.name);
-      tooltip(m.summary + " " + m.reference);
+    for (const MethodInfo* m : methods_->listed()) {
+      if (ImGui::Selectable(m->name.c_str(), m->name == state_.method)) choose_method(m->name);
+      tooltip(m->summary + " " + m->reference);
     }
     ImGui::EndCombo();
   }
@@ -208,9 +207,9 @@ void Viewer::view_panel() {
   if (mode_ == ViewMode::split)
     for (int i = 0; i < 2; ++i)
       if (ImGui::BeginCombo(i == 0 ? "left" : "right", split_[i].c_str())) {
-        for (const MethodInfo& m : MethodRegistry::builtin().methods())
-          if (ImGui::Selectable(m.name.c_str(), m.name == split_[i])) {
-            split_[i] = m.name;
+        for (const MethodInfo* m : methods_->listed())
+          if (ImGui::Selectable(m->name.c_str(), m->name == split_[i])) {
+            split_[i] = m->name;
             split_changed = true;
           }
         ImGui::EndCombo();

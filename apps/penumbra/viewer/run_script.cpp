@@ -35,7 +35,7 @@ bool Viewer::run_command(const ScriptCommand& c) {
   LightEdit& light = state_.lights[static_cast<size_t>(light_)];
   switch (c.op) {
     case ScriptOp::method:
-      MethodRegistry::builtin().get(c.words[0]);  // unknown → Error listing the names
+      methods_->get(c.words[0]);  // unknown, or no GPU path → Error listing the names
       choose_method(c.words[0]);
       return true;
     case ScriptOp::set: {
@@ -77,7 +77,7 @@ bool Viewer::run_command(const ScriptCommand& c) {
     case ScriptOp::view: {
       const ViewMode mode = *parse_view_mode(c.words[0]);
       if (mode == ViewMode::split) {
-        for (int i = 0; i < 2; ++i) MethodRegistry::builtin().get(c.words[1 + i]);
+        for (int i = 0; i < 2; ++i) methods_->get(c.words[1 + i]);
         split_[0] = c.words[1];
         split_[1] = c.words[2];
       }

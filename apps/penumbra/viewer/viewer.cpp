@@ -62,8 +62,10 @@ std::string LatencyLog::summary() const {
   return line;
 }
 
-Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script)
+Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script,
+               std::shared_ptr<const ViewerMethods> methods)
     : args_(args),
+      methods_(std::move(methods)),
       base_(std::make_shared<const Scene>(std::move(scene))),
       state_(*base_, args.method, LightSampleSpec{}),
       window_(
@@ -84,7 +86,7 @@ Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> s
   state_.samples.k = args.samples;
   state_.samples.seed = args.seed;
   state_.samples.pattern = *parse_sample_pattern(args.pattern);
-  split_[0] = "exact";
+  split_[0] = methods_->gpu() ? methods_->listed().front()->name : "exact";
   split_[1] = args.method;
   last_edit_ = Clock::now() - std::chrono::hours(1);
 }
@@ -134,7 +136,7 @@ RenderJob Viewer::make_job(bool preview, bool reference) const {
     names = {split_[0], split_[1]};
   }
   for (const std::string& name : names) {
-    const MethodInfo& info = registry.get(name);
+    const MethodInfo& info = reference ? registry.get(name) : methods_->get(name);
     const auto it = state_.options.find(name);
     job.methods.push_back(&info);
     job.options.push_back(resolve_options(
@@ -286,8 +288,14 @@ void Viewer::run() {
   if (!args_.script.empty()) std::fprintf(stderr, "%s\n", latency_.summary().c_str());
 }
 
-void run_viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script) {
-  Viewer viewer(args, std::move(scene), std::move(script));
+void run_viewer(const ViewerArgs& in, Scene scene, std::vector<ScriptCommand> script) {
+  ViewerArgs args = in;
+  // The device and the method are checked before the window opens.
+  auto methods = std::make_shared<const ViewerMethods>(args.backend, args.vk_device);
+  if (args.method.empty()) args.method = methods->gpu() ? methods->listed().front()->name : "exact";
+  methods->get(args.method);
+  if (methods->gpu()) std::fprintf(stderr, "vulkan device: %s\n", methods->device_name().c_str());
+  Viewer viewer(args, std::move(scene), std::move(script), std::move(methods));
   viewer.run();
 }
 

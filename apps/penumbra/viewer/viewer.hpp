@@ -18,12 +18,13 @@
 #include "render_worker.hpp"
 #include "script.hpp"
 #include "view_state.hpp"
+#include "viewer_methods.hpp"
 
 namespace penumbra::viewer {
 
 struct ViewerArgs {
   std::string scene;
-  std::string method = "exact";
+  std::string method;  // empty: `exact`, or the first GPU method with --backend vulkan
   std::string size;
   int samples = 4;
   std::string pattern = "grid";
@@ -37,6 +38,8 @@ struct ViewerArgs {
   // (for scenes where exact is too slow).
   std::string reference = "exact";
   int reference_samples = 32;
+  std::string backend = "cpu";  // or "vulkan": the methods (not the reference) on the GPU
+  std::string vk_device;        // as `render --vk-device`
 };
 
 /// The reference's name as the panel and the files show it: `exact` or `raytrace 32×32`.
@@ -71,7 +74,8 @@ struct LatencyLog {
 
 class Viewer {
  public:
-  Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script);
+  Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script,
+         std::shared_ptr<const ViewerMethods> methods);
   ~Viewer();
   void run();
 
@@ -109,6 +113,7 @@ class Viewer {
   void save_error(const std::filesystem::path& path) const;
 
   ViewerArgs args_;
+  std::shared_ptr<const ViewerMethods> methods_;
   std::shared_ptr<const Scene> base_;  // as loaded; every job edits a copy
   std::shared_ptr<SharedBvh> bvh_ = std::make_shared<SharedBvh>();
   float scene_diagonal_ = 1.0f;
