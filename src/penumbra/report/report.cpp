@@ -125,18 +125,18 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
   entry.width = g.width;
   entry.height = g.height;
   const Image<float> mask = surface_mask(g);
-  const MethodResult& exact = *runs.front().result;  // the reference
+  const MethodResult& reference = *runs.front().result;
 
   std::vector<Image<float>> errors(runs.size());
   std::vector<const Image<float>*> error_ptrs;
   for (size_t m = 1; m < runs.size(); ++m) {
     if (!runs[m].result) continue;
-    errors[m] = signed_difference(exact, *runs[m].result);
+    errors[m] = signed_difference(reference, *runs[m].result);
     error_ptrs.push_back(&errors[m]);
   }
   entry.error_scale =
       spec.error_scale > 0.0 ? spec.error_scale : common_error_scale(error_ptrs, mask);
-  entry.crop = penumbra_window(exact.per_light.front().lit, mask);
+  entry.crop = penumbra_window(reference.per_light.front().lit, mask);
   entry.crop_zoom = std::max(1, 200 / entry.crop.size);
 
   std::vector<TableRow> rows;
@@ -151,7 +151,7 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
     }
     const MethodResult& r = *runs[m].result;
     me.ms = r.total_ms;
-    if (m > 0) me.vs_exact = compare_results(frame, exact, r);
+    if (m > 0) me.vs_exact = compare_results(frame, reference, r);
     const Frame& run_frame = runs[m].own_frame ? *runs[m].own_frame : frame;
     me.stats = stats_json(run_frame, r, me.vs_exact ? &*me.vs_exact : nullptr);
     if (spec.reference != "exact" && me.stats.contains("error_vs_exact")) {
