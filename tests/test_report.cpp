@@ -27,6 +27,22 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
+/// `method` with its default options on `quad` at the report's 48×40, K×K grid samples: the
+/// pipeline's own numbers, to check the report's against.
+MethodResult quad_run(const std::string& method, int k, std::unique_ptr<Frame>& frame) {
+  static const Scene quad = [] {
+    Scene s = make_builtin_scene("quad");
+    s.camera.width = 48;
+    s.camera.height = 40;
+    return s;
+  }();
+  LightSampleSpec samples;
+  samples.k = k;
+  frame = std::make_unique<Frame>(quad, samples);
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  return frame->run(info, resolve_options(info, {}), false);
+}
+
 report::ReportSpec small_spec(const fs::path& out) {
   report::ReportSpec spec;
   spec.scenes = {"quad", "fence"};
@@ -98,17 +114,12 @@ TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
         1e-6 * pcss["equal_time_rays"].get<double>());
   }
   // The report's numbers are the pipeline's: raytrace on quad, recomputed directly.
-  Scene quad = make_builtin_scene("quad");
-  quad.camera.width = 48;
-  quad.camera.height = 40;
-  LightSampleSpec samples;
-  samples.k = 4;
-  const Frame frame(quad, samples);
-  const MethodInfo& exact = MethodRegistry::builtin().get("exact");
-  const MethodInfo& rt = MethodRegistry::builtin().get("raytrace");
-  const MethodResult e = frame.run(exact, resolve_options(exact, {}), false);
-  const MethodResult r = frame.run(rt, resolve_options(rt, {}), false);
-  const ErrorStats direct = compare_results(frame, e, r);
+  std::unique_ptr<Frame> frame;
+  const MethodResult e = quad_run("exact", 4, frame);
+  const MethodResult r =
+      frame->run(MethodRegistry::builtin().get("raytrace"),
+                 resolve_options(MethodRegistry::builtin().get("raytrace"), {}), false);
+  const ErrorStats direct = compare_results(*frame, e, r);
   const auto& reported = j["scenes"][0]["methods"][1]["error_vs_exact"];
   EXPECT_DOUBLE_EQ(reported["mean_abs_shadowed"].get<double>(), direct.mean_abs_shadowed);
   EXPECT_DOUBLE_EQ(reported["max_abs"].get<double>(), direct.max_abs);
@@ -152,19 +163,10 @@ TEST(Report, RayTracedReferenceReplacesExact) {
     ASSERT_TRUE(methods[m].contains("error_vs_reference")) << methods[m]["method"];
   }
   // The numbers are the pipeline's: 4×4 gears against 16×16 raytrace, recomputed directly.
-  Scene quad = make_builtin_scene("quad");
-  quad.camera.width = 48;
-  quad.camera.height = 40;
-  LightSampleSpec fine;
-  fine.k = 16;
-  const Frame reference_frame(quad, fine);
-  const MethodInfo& rt = MethodRegistry::builtin().get("raytrace");
-  const MethodResult ref = reference_frame.run(rt, resolve_options(rt, {}), false);
-  LightSampleSpec coarse;
-  coarse.k = 4;
-  const Frame frame(quad, coarse);
-  const MethodResult g = frame.run(gears, resolve_options(gears, {}), false);
-  const ErrorStats direct = compare_results(frame, ref, g);
+  std::unique_ptr<Frame> reference_frame, frame;
+  const MethodResult ref = quad_run("raytrace", 16, reference_frame);
+  const MethodResult g = quad_run("gears", 4, frame);
+  const ErrorStats direct = compare_results(*frame, ref, g);
   EXPECT_DOUBLE_EQ(methods[3]["error_vs_reference"]["mean_abs_shadowed"].get<double>(),
                    direct.mean_abs_shadowed);
   // gears equals raytrace on the same samples, so both rows carry the same error (measured 0.0471:
