@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/progress.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/report/report_data.hpp"
@@ -31,15 +32,18 @@ std::vector<Run> run_methods(const Frame& frame, const ReportSpec& spec, const c
   for (size_t m = 0; m < spec.methods.size(); ++m) {
     Run r;
     r.info = spec.methods[m];
-    std::fprintf(stderr, "  %-10s %-16s ...", what, r.info->name.c_str());
-    std::fflush(stderr);
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-10s %-16s", what, r.info->name.c_str());
+    begin_status_line(line);
     try {
       r.result = frame.run(*r.info, spec.options[m], false);
-      std::fprintf(stderr, "\r  %-10s %-16s %10.1f ms\n", what, r.info->name.c_str(),
-                   r.result->total_ms);
+      std::snprintf(line, sizeof line, "  %-10s %-16s %10.1f ms", what, r.info->name.c_str(),
+                    r.result->total_ms);
+      end_status_line(line);
     } catch (const Error& e) {
       r.failure = e.what();
-      std::fprintf(stderr, "\r  %-10s %-16s failed: %s\n", what, r.info->name.c_str(), e.what());
+      std::snprintf(line, sizeof line, "  %-10s %-16s failed: ", what, r.info->name.c_str());
+      end_status_line(line + one_line(e.what()));
     }
     runs.push_back(std::move(r));
   }
