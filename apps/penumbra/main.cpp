@@ -40,9 +40,10 @@ std::string usage_message(const CLI::App& app, const CLI::ParseError& e, int arg
   }
   const auto parsed = app.get_subcommands();
   const std::string who = parsed.empty() ? "" : parsed.front()->get_name() + ": ";
-  if (!parsed.empty() && dynamic_cast<const CLI::ExtrasError*>(&e)) {
-    // A mistyped long option (--sample for --samples) is one of the unexpected arguments: name it
-    // and the nearest option of the command.
+  if (!parsed.empty()) {
+    // A mistyped long option (--sample for --samples) is the cause of the error, whichever CLI11
+    // reports (unexpected arguments, or the option it stood for missing): name it and the nearest
+    // option of the command.
     std::vector<std::string> options;
     for (const CLI::Option* option : parsed.front()->get_options())
       for (const std::string& name : option->get_lnames()) options.push_back("--" + name);

@@ -161,7 +161,8 @@ expect_error "info" info
 expect_error "unknown command 'rendr' (did you mean 'render'?)" rendr --scene quad
 expect_error "a command is required" 
 expect_error "--out is required" render --scene quad --method exact
-expect_error "--scene is required" render --bogus-flag
+expect_error "--scene is required" render --method exact --out "$work/x"
+expect_error "unknown option '--bogus-flag'" render --bogus-flag
 expect_error "--float-format" render --scene quad --method exact --float-format tiff --out "$work/x"
 expect_error "did you mean 'exact'?" render --scene quad --method exct --out "$work/x"
 expect_error "did you mean 'spheres'?" render --scene sphere --method exact --out "$work/x"
