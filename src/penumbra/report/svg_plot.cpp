@@ -152,11 +152,12 @@ const char* palette_color(size_t index) {
 
 std::string distinct_color(size_t index, size_t count) {
   if (count <= std::size(kPalette)) return palette_color(index);
-  // Hues a golden angle apart (each new hue lands in the widest gap left), lightness cycling
-  // through three levels so that hues that end up close differ in lightness.
-  const double hue = std::fmod(137.50776405 * static_cast<double>(index), 360.0) / 60.0;
-  const double lightness = std::array<double, 3>{0.45, 0.62, 0.33}[index % 3];
-  const double saturation = 0.62;
+  // ceil(count / 3) hues evenly spaced around the wheel, each at three lightness levels: colours
+  // of one level differ in hue by at least 360° / hues, those of one hue in lightness.
+  const size_t hues = (count + 2) / 3;
+  const double hue = 6.0 * static_cast<double>(index % hues) / static_cast<double>(hues);
+  const double lightness = std::array<double, 3>{0.47, 0.68, 0.30}[(index / hues) % 3];
+  const double saturation = 0.75;
   const double chroma = (1.0 - std::fabs(2.0 * lightness - 1.0)) * saturation;
   const double x = chroma * (1.0 - std::fabs(std::fmod(hue, 2.0) - 1.0));
   const double m = lightness - 0.5 * chroma;

@@ -46,8 +46,7 @@ struct Chart {
 const char* palette_color(size_t index);
 
 /// Colour `index` of `count` colours that must all differ: the palette for up to 10, beyond it
-/// hues a golden angle apart at three lightness levels ("#rrggbb"; distinct for any count a
-/// chart legend holds).
+/// count / 3 evenly spaced hues at three lightness levels ("#rrggbb").
 std::string distinct_color(size_t index, size_t count);
 
 /// A line or scatter plot. Points with a non-finite value, or <= 0 on a log axis, are skipped.
