@@ -89,8 +89,9 @@ TEST_F(AtomicWrites, SceneFilesLeaveNothingTruncatedOnAFullDisk) {
     EXPECT_NE(name, "s.json");
   }
   // With room: the JSON and its mesh files, complete.
-  EXPECT_EQ(run_with_a_full_disk([&] { write_scene_file(make_builtin_scene("quad"), dir_ / "q.json"); }),
-            0);
+  EXPECT_EQ(
+      run_with_a_full_disk([&] { write_scene_file(make_builtin_scene("quad"), dir_ / "q.json"); }),
+      0);
   EXPECT_TRUE(fs::exists(dir_ / "q.json"));
 }
 

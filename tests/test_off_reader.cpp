@@ -165,8 +165,7 @@ TEST_F(OffReaderTest, PolygonsOfTenOrMoreVerticesLoadAsObjNgonsDo) {
   for (const int n : {10, 50, 1000}) {
     SCOPED_TRACE(n);
     std::ostringstream off, obj;
-    off << "COFF\n# a regular " << n << "-gon and a triangle, with colours\n"
-        << n + 3 << " 2 0\n";
+    off << "COFF\n# a regular " << n << "-gon and a triangle, with colours\n" << n + 3 << " 2 0\n";
     for (int i = 0; i < n; ++i) {
       const double angle = 2.0 * 3.14159265358979 * i / n;
       off << 0.5 * std::cos(angle) << " 0.5 " << 0.5 * std::sin(angle) << " 1 0 0 1\n";

@@ -211,9 +211,9 @@ TEST(Report, CoincidentMarkersOfTwoMethodsStayVisible) {
   plot::Chart c;
   c.x = {"ms", plot::Scale::log10};
   c.y = {"error", plot::Scale::log10};
-  const std::string svg = plot::line_plot_svg(
-      c, {{"wedges", {10.0}, {0.01}, false, false, {0}, {}, ""},
-          {"wedge_blend", {10.0}, {0.01}, false, false, {0}, {}, ""}});
+  const std::string svg =
+      plot::line_plot_svg(c, {{"wedges", {10.0}, {0.01}, false, false, {0}, {}, ""},
+                              {"wedge_blend", {10.0}, {0.01}, false, false, {0}, {}, ""}});
   // The plotted markers (those with a tooltip; the legend's have none), in drawing order.
   std::vector<double> radii;
   for (size_t p = svg.find("<circle"); p != std::string::npos; p = svg.find("<circle", p + 1))
@@ -233,8 +233,9 @@ TEST(Report, CloseUpsAreShownAtTheStatedEnlargement) {
   spec.sweeps.clear();
   report::write_report(spec);
   const std::string html = read_text(out / "index.html");
-  EXPECT_NE(html.find("figure.crop img { image-rendering: pixelated; width: auto; max-width: 100%; }"),
-            std::string::npos);
+  EXPECT_NE(
+      html.find("figure.crop img { image-rendering: pixelated; width: auto; max-width: 100%; }"),
+      std::string::npos);
   const size_t note = html.find("× enlarged (each pixel drawn ");
   ASSERT_NE(note, std::string::npos);
   fs::remove_all(out);

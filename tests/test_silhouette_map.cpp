@@ -272,8 +272,8 @@ TEST(SilhouetteMapCost, StackedFacesCostTheirSilhouettesNotTheirArea) {
     const float y = 1.0f + 1e-4f * static_cast<float>(k);
     const uint32_t base = static_cast<uint32_t>(m.positions.size());
     // (Within the map: it is fitted to the receivers of `cover` below, from the light.)
-    m.positions.insert(m.positions.end(), {Vec3(-0.6f, y, -0.6f), Vec3(0.6f, y, -0.6f),
-                                           Vec3(-0.6f, y, 0.6f)});
+    m.positions.insert(m.positions.end(),
+                       {Vec3(-0.6f, y, -0.6f), Vec3(0.6f, y, -0.6f), Vec3(-0.6f, y, 0.6f)});
     m.triangles.push_back({{base, base + 2, base + 1}});
   }
   z.meshes.push_back(m);
@@ -300,8 +300,8 @@ TEST(SilhouetteMapCost, StackedFacesCostTheirSilhouettesNotTheirArea) {
     ASSERT_TRUE(sx[c] > 8 && sx[c] < kResolution - 8 && sy[c] > 8 && sy[c] < kResolution - 8);
   // Each edge's band: 2·(half_band + 1) texels across plus a texel of rounding, and its length
   // plus the capped ends.
-  const double band_texels = perimeter * (2.0 * (half_band + 1.0) + 1.0) +
-                             3.0 * std::pow(2.0 * (half_band + 2.0), 2.0);
+  const double band_texels =
+      perimeter * (2.0 * (half_band + 1.0) + 1.0) + 3.0 * std::pow(2.0 * (half_band + 2.0), 2.0);
   const double visited = static_cast<double>(layer.texels_visited);
   EXPECT_LE(visited, kFaces * band_texels);
   EXPECT_LT(visited, 0.1 * kFaces * area);
@@ -342,9 +342,9 @@ TEST(SilhouetteMapCost, CoincidentCopiesAreDrawnOnce) {
   EXPECT_EQ(b.duplicate_faces, 49u * 2u);
   EXPECT_EQ(a.texels_visited, b.texels_visited);
   ASSERT_EQ(a.depth.size(), b.depth.size());
-  EXPECT_EQ(std::memcmp(a.depth.pixels().data(), b.depth.pixels().data(),
-                        a.depth.size() * sizeof(float)),
-            0);
+  EXPECT_EQ(
+      std::memcmp(a.depth.pixels().data(), b.depth.pixels().data(), a.depth.size() * sizeof(float)),
+      0);
   EXPECT_EQ(std::memcmp(a.distance.pixels().data(), b.distance.pixels().data(),
                         a.distance.size() * sizeof(float)),
             0);

@@ -28,8 +28,8 @@ std::optional<uint64_t> parse_base10(std::string_view text) {
 
 void parse_size(const std::string& text, Camera& camera) {
   const size_t x = text.find_first_of("xX");
-  const std::optional<uint64_t> w = x == std::string::npos ? std::nullopt
-                                                           : parse_base10(text.substr(0, x));
+  const std::optional<uint64_t> w =
+      x == std::string::npos ? std::nullopt : parse_base10(text.substr(0, x));
   const std::optional<uint64_t> h =
       x == std::string::npos ? std::nullopt : parse_base10(text.substr(x + 1));
   if (!w || !h || *w < 1 || *h < 1 || *w > 16384 || *h > 16384)
@@ -167,8 +167,8 @@ SamplePattern parse_pattern(const std::string& name) {
     for (const SamplePattern p : all_sample_patterns()) names.emplace_back(to_string(p));
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw Error("--pattern: unknown light-sample pattern " + quote(name) + did_you_mean(name, names) +
-                " (patterns: " + list + ")");
+    throw Error("--pattern: unknown light-sample pattern " + quote(name) +
+                did_you_mean(name, names) + " (patterns: " + list + ")");
   }
   return *pattern;
 }

@@ -1,7 +1,7 @@
 // `penumbra report`: every method × scene in one process, one self-contained HTML page.
 #include <cstdio>
-#include <memory>
 #include <limits>
+#include <memory>
 
 #include "commands.hpp"
 #include "method_args.hpp"

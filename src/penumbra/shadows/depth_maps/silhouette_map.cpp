@@ -195,8 +195,7 @@ void drop_duplicate_faces(std::vector<SilFace>& faces, size_t& dropped) {
   std::vector<bool> duplicate(faces.size(), false);
   for (size_t k = 1; k < order.size(); ++k) {
     const SilFace &prev = faces[order[k - 1]], &cur = faces[order[k]];
-    duplicate[order[k]] =
-        prev.mask == cur.mask && std::memcmp(prev.s, cur.s, sizeof cur.s) == 0;
+    duplicate[order[k]] = prev.mask == cur.mask && std::memcmp(prev.s, cur.s, sizeof cur.s) == 0;
   }
   size_t kept = 0;
   for (size_t i = 0; i < faces.size(); ++i)
@@ -402,7 +401,9 @@ SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthM
     uint64_t visited = 0;
     for (uint32_t i : bins[first / kBand]) {
       const SilFace& f = faces[i];
-      const auto spans = [&](int y, auto&& emit) { silhouette_spans(f, span_radius, res, y, emit); };
+      const auto spans = [&](int y, auto&& emit) {
+        silhouette_spans(f, span_radius, res, y, emit);
+      };
       rasterize_triangle_spans(
           f.scaled[0], f.scaled[1], f.scaled[2], res, first, last, spans,
           [&](int x, int y, double) {
