@@ -203,17 +203,17 @@ void run_render(const RenderArgs& args) {
   ProcessCosts costs;
   costs.startup_ms =
       std::chrono::duration<double, std::milli>(command_start - process_start()).count();
-  // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
-  // mostly the first touch of their pages) are allocated by a task of their own while this thread
-  // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
-  // half the memory left (check_memory then refuses the frame with its message, below). The Frame
-  // waits for them before the primary rays.
   // Every argument is checked before the scene is read: a typo is reported at once, not after
   // a long load.
   const SamplePattern pattern = parse_pattern(args.pattern);
   std::vector<const MethodInfo*> methods = selected_methods(args.methods);
   const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
   const std::vector<std::string> aovs = split_aovs(args.aovs);
+  // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
+  // mostly the first touch of their pages) are allocated by a task of their own while this thread
+  // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
+  // half the memory left (check_memory then refuses the frame with its message, below). The Frame
+  // waits for them before the primary rays.
   GBuffer layers;
   tbb::task_group layers_task;
   const std::optional<Camera> sized = size_option(args.size);
