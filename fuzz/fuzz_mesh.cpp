@@ -1,5 +1,8 @@
-// libFuzzer target: the mesh loaders (OFF, PLY, OBJ, STL) through the project's validation and
-// assimp. The first byte picks the format; the rest is the file. Every input must end in a mesh or
+// libFuzzer target: the mesh loaders (OFF, PLY, OBJ, STL, glTF, GLB) through the project's
+// validation and assimp. The first byte picks the format (its value mod 6: off, ply, obj, stl,
+// gltf, glb); the rest is the file. The glTF seeds (tests/data/meshes/gltf) are small valid files
+// of each structure the validation walks (indices, node hierarchies, several primitives, embedded
+// and GLB buffers), so mutations reach past the header checks. Every input must end in a mesh or
 // a penumbra::Error — any other exception, crash, hang or sanitizer report is a finding.
 #include <unistd.h>
 
@@ -14,8 +17,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  static const char* const kExtensions[] = {".off", ".ply", ".obj", ".stl"};
-  const std::string ext = kExtensions[data[0] % 4];
+  static const char* const kExtensions[] = {".off", ".ply", ".obj", ".stl", ".gltf", ".glb"};
+  const std::string ext = kExtensions[data[0] % 6];
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                      ("penumbra_fuzz_mesh_" + std::to_string(::getpid()) + ext);
   if (std::FILE* f = std::fopen(path.c_str(), "wb")) {

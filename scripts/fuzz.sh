@@ -74,6 +74,12 @@ seed() {
     for f in tests/data/scenes/*.obj tests/data/scenes/broken/*.obj; do
       [ -f "$f" ] && { printf '\x02'; cat "$f"; } >"$dir/obj_$((i++))"
     done
+    for f in tests/data/meshes/gltf/*.gltf; do
+      [ -f "$f" ] && { printf '\x04'; cat "$f"; } >"$dir/gltf_$((i++))"
+    done
+    for f in tests/data/meshes/gltf/*.glb; do
+      [ -f "$f" ] && { printf '\x05'; cat "$f"; } >"$dir/glb_$((i++))"
+    done
     printf '\x03solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$dir/stl_ascii"
   fi
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -156,6 +157,57 @@ TEST_F(OffReaderTest, FilesOutsideTheSubsetGoToAssimp) {
   // A quad file still loads, through assimp.
   const fs::path quad = write("quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
   EXPECT_EQ(load_mesh_file(quad).triangles.size(), 2u);
+}
+
+/// Assimp's OFF importer drops faces of more than 9 indices (a decagon loaded as "no faces"):
+/// such files go to its OBJ importer as the same polygons, triangulated as OBJ n-gons are.
+TEST_F(OffReaderTest, PolygonsOfTenOrMoreVerticesLoadAsObjNgonsDo) {
+  for (const int n : {10, 50, 1000}) {
+    SCOPED_TRACE(n);
+    std::ostringstream off, obj;
+    off << "COFF\n# a regular " << n << "-gon and a triangle, with colours\n" << n + 3 << " 2 0\n";
+    for (int i = 0; i < n; ++i) {
+      const double angle = 2.0 * 3.14159265358979 * i / n;
+      off << 0.5 * std::cos(angle) << " 0.5 " << 0.5 * std::sin(angle) << " 1 0 0 1\n";
+      obj << "v " << 0.5 * std::cos(angle) << " 0.5 " << 0.5 * std::sin(angle) << "\n";
+    }
+    off << "0 0 0 1 0 0 1\n1 0 0 1 0 0 1\n0 0 1 1 0 0 1\n" << n;
+    obj << "v 0 0 0\nv 1 0 0\nv 0 0 1\nf";
+    for (int i = 0; i < n; ++i) {
+      off << ' ' << i;
+      obj << ' ' << i + 1;
+    }
+    off << "\n3 " << n << ' ' << n + 1 << ' ' << n + 2 << "\n";
+    obj << "\nf " << n + 1 << ' ' << n + 2 << ' ' << n + 3 << "\n";
+    const Mesh from_off = load_mesh_file(write("polygon.off", off.str()));
+    const Mesh from_obj = load_mesh_file(write("polygon.obj", obj.str()));
+    ASSERT_EQ(from_off.triangles.size(), static_cast<size_t>(n - 2 + 1));
+    ASSERT_EQ(from_off.positions.size(), from_obj.positions.size());
+    EXPECT_EQ(std::memcmp(from_off.positions.data(), from_obj.positions.data(),
+                          from_obj.positions.size() * sizeof(Vec3)),
+              0);
+    ASSERT_EQ(from_off.triangles.size(), from_obj.triangles.size());
+    EXPECT_EQ(std::memcmp(from_off.triangles.data(), from_obj.triangles.data(),
+                          from_obj.triangles.size() * sizeof(Triangle)),
+              0);
+    // The triangulation covers the polygon: its area, n/2 · r² · sin(2π/n), plus the triangle's.
+    double area = 0.0;
+    for (const Triangle& t : from_off.triangles) {
+      const Vec3 a = from_off.positions[t.v[0]], b = from_off.positions[t.v[1]],
+                 c = from_off.positions[t.v[2]];
+      area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    const double expected = n / 2.0 * 0.25 * std::sin(2.0 * 3.14159265358979 / n) + 0.5;
+    EXPECT_NEAR(area, expected, 1e-5);
+  }
+  // The reproducer's decagon alone (assimp: "Mesh contains no faces").
+  const fs::path decagon = write("decagon.off",
+                                 "OFF\n10 1 0\n0.5 0.5 0.0\n0.4045 0.5 0.2939\n0.1545 0.5 0.4755\n"
+                                 "-0.1545 0.5 0.4755\n-0.4045 0.5 0.2939\n-0.5 0.5 0\n"
+                                 "-0.4045 0.5 -0.2939\n-0.1545 0.5 -0.4755\n0.1545 0.5 -0.4755\n"
+                                 "0.4045 0.5 -0.2939\n10 0 1 2 3 4 5 6 7 8 9\n");
+  EXPECT_EQ(load_mesh_file(decagon).triangles.size(), 8u);
+  EXPECT_FALSE(off_polygons_as_obj("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"));
 }
 
 /// 400 one-character mutations of a small plain file: whenever the direct reader accepts one, the

@@ -2,10 +2,14 @@
 // as the pipeline computes directly), the common error scale, the penumbra window, the plots.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/pipeline/frame.hpp"
@@ -241,6 +245,76 @@ TEST(Report, PlotsLabelTicksReadablyAndSkipWhatALogAxisCannotShow) {
   EXPECT_EQ(circles, 2u);
   const std::string bars = plot::stacked_bars_svg("t", "ms", {{"m", {{"a", 2.0}, {"b", 3.0}}}});
   EXPECT_NE(bars.find(">5</text>"), std::string::npos);  // the total
+}
+
+/// The `fill='#rrggbb'` values of `svg`, in order.
+std::vector<std::string> fills(const std::string& svg) {
+  std::vector<std::string> out;
+  for (size_t p = svg.find("fill='#"); p != std::string::npos; p = svg.find("fill='#", p + 1))
+    if (p + 13 < svg.size() && svg[p + 13] == '\'') out.push_back(svg.substr(p + 6, 7));
+  return out;
+}
+
+TEST(Report, StageLegendGivesEveryStageItsOwnColour) {
+  // A report of every method lists ~37 stage names; 10 palette colours used to repeat among them.
+  std::vector<std::pair<std::string, double>> segments;
+  for (int i = 0; i < 37; ++i) segments.emplace_back("stage" + std::to_string(i), 1.0);
+  const std::string bars = plot::stacked_bars_svg("t", "ms", {{"m", segments}});
+  std::vector<std::string> colours = fills(bars);
+  std::sort(colours.begin(), colours.end());
+  colours.erase(std::unique(colours.begin(), colours.end()), colours.end());
+  EXPECT_EQ(colours.size(), 37u);
+  // Up to 10 names keep the palette.
+  EXPECT_EQ(plot::distinct_color(3, 10), plot::palette_color(3));
+  // Generated colours are far apart: each pair differs by more than 24 in some 0–255 channel (27
+  // measured), for every legend size up to 40.
+  int closest = 255;
+  for (int n = 11; n <= 40; ++n)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < i; ++j) {
+        const std::string a = plot::distinct_color(i, n), b = plot::distinct_color(j, n);
+        int most = 0;
+        for (int c = 0; c < 3; ++c)
+          most = std::max(most, std::abs(std::stoi(a.substr(1 + 2 * c, 2), nullptr, 16) -
+                                         std::stoi(b.substr(1 + 2 * c, 2), nullptr, 16)));
+        closest = std::min(closest, most);
+      }
+  EXPECT_GT(closest, 24);
+}
+
+TEST(Report, CoincidentMarkersOfTwoMethodsStayVisible) {
+  // wedges and wedge_blend at the same time and error on one scene: same spot, same shape.
+  plot::Chart c;
+  c.x = {"ms", plot::Scale::log10};
+  c.y = {"error", plot::Scale::log10};
+  const std::string svg =
+      plot::line_plot_svg(c, {{"wedges", {10.0}, {0.01}, false, false, {0}, {}, ""},
+                              {"wedge_blend", {10.0}, {0.01}, false, false, {0}, {}, ""}});
+  // The plotted markers (those with a tooltip; the legend's have none), in drawing order.
+  std::vector<double> radii;
+  for (size_t p = svg.find("<circle"); p != std::string::npos; p = svg.find("<circle", p + 1))
+    if (svg.find("<title>", p) < svg.find("</circle>", p))
+      radii.push_back(std::stod(svg.substr(svg.find(" r='", p) + 4)));
+  // Two sizes, the larger drawn first: a ring around the other.
+  ASSERT_EQ(radii.size(), 2u);
+  EXPECT_GT(radii[0], radii[1] * 1.3);
+}
+
+TEST(Report, CloseUpsAreShownAtTheStatedEnlargement) {
+  // The crops are drawn at their pixel size (zoom × window), not stretched to the grid cell.
+  const fs::path out = fs::temp_directory_path() / "penumbra_report_zoom";
+  fs::remove_all(out);
+  report::ReportSpec spec = small_spec(out);
+  spec.scenes = {"quad"};
+  spec.sweeps.clear();
+  report::write_report(spec);
+  const std::string html = read_text(out / "index.html");
+  EXPECT_NE(
+      html.find("figure.crop img { image-rendering: pixelated; width: auto; max-width: 100%; }"),
+      std::string::npos);
+  const size_t note = html.find("× enlarged (each pixel drawn ");
+  ASSERT_NE(note, std::string::npos);
+  fs::remove_all(out);
 }
 
 }  // namespace

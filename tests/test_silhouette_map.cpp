@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/model_paths.hpp"
@@ -257,6 +258,96 @@ TEST(SilhouetteMapDegenerate, OpenMeshAndZeroAreaFacesNoNaN) {
     covered += layer.depth.pixels()[i] < kInfinity;
   }
   EXPECT_GT(covered, 0);
+}
+
+/// The silhouette pass visits the texels of the thick silhouettes, not the faces' area: a stack of
+/// large open triangles (every edge a silhouette), each covering 40 % of the map, costs its
+/// silhouettes' length × band width per face. Visiting each scaled face whole (as once: ~5 ms a
+/// face at 2048², 2 000 stacked triangles in 10 s) is over 13× the visits here.
+TEST(SilhouetteMapCost, StackedFacesCostTheirSilhouettesNotTheirArea) {
+  constexpr int kFaces = 100, kResolution = 512;
+  Scene z;
+  Mesh m;
+  for (int k = 0; k < kFaces; ++k) {
+    const float y = 1.0f + 1e-4f * static_cast<float>(k);
+    const uint32_t base = static_cast<uint32_t>(m.positions.size());
+    // (Within the map: it is fitted to the receivers of `cover` below, from the light.)
+    m.positions.insert(m.positions.end(),
+                       {Vec3(-0.6f, y, -0.6f), Vec3(0.6f, y, -0.6f), Vec3(-0.6f, y, 0.6f)});
+    m.triangles.push_back({{base, base + 2, base + 1}});
+  }
+  z.meshes.push_back(m);
+  const std::vector<silmap::TamFace> tam = silmap::build_tam(z);
+  ASSERT_EQ(tam.size(), static_cast<size_t>(kFaces));
+  const Vec3 cover[2] = {Vec3(-1, 0, -1), Vec3(1, 0, 1)};
+  DepthMapSpec spec;
+  spec.resolution = kResolution;
+  const DepthMap map = render_depth_map(z, Vec3(0, 3, 0), cover, spec);
+  const double half_band = 1.5;
+  const silmap::SilhouetteLayer layer = silmap::render_silhouettes(tam, map, half_band);
+  EXPECT_EQ(layer.silhouette_faces, static_cast<size_t>(kFaces));
+
+  // One face on the map: its area and perimeter in texels.
+  double sx[3], sy[3], z_unused;
+  for (int c = 0; c < 3; ++c) ASSERT_TRUE(map.project(tam[0].p[c], sx[c], sy[c], z_unused));
+  const double area =
+      0.5 * std::abs((sx[1] - sx[0]) * (sy[2] - sy[0]) - (sy[1] - sy[0]) * (sx[2] - sx[0]));
+  double perimeter = 0.0;
+  for (int c = 0; c < 3; ++c)
+    perimeter += std::hypot(sx[(c + 1) % 3] - sx[c], sy[(c + 1) % 3] - sy[c]);
+  ASSERT_GT(area, 0.3 * kResolution * kResolution);
+  for (int c = 0; c < 3; ++c)
+    ASSERT_TRUE(sx[c] > 8 && sx[c] < kResolution - 8 && sy[c] > 8 && sy[c] < kResolution - 8);
+  // Each edge's band: 2·(half_band + 1) texels across plus a texel of rounding, and its length
+  // plus the capped ends.
+  const double band_texels =
+      perimeter * (2.0 * (half_band + 1.0) + 1.0) + 3.0 * std::pow(2.0 * (half_band + 2.0), 2.0);
+  const double visited = static_cast<double>(layer.texels_visited);
+  EXPECT_LE(visited, kFaces * band_texels);
+  EXPECT_LT(visited, 0.1 * kFaces * area);
+  // Measured 783 962: 7.4 % of the faces' area (a band of ~5 texels along 1 572 texels of edges).
+  EXPECT_NEAR(visited, 783962, 0.02 * 783962);
+  // And every texel of the thick silhouettes was written (the band along the three edges).
+  int covered = 0;
+  for (size_t i = 0; i < layer.depth.size(); ++i) covered += layer.depth.pixels()[i] < kInfinity;
+  // Measured 5 997: 2·half_band·perimeter = 4 715 texels, widened by the stack (its faces' images
+  // grow by 0.5 % from the lowest to the highest, ~3 texels at the far corners).
+  EXPECT_NEAR(covered, 5997, 150);
+}
+
+/// Copies of one model in one place (5 000 instanced boxes) are left out of the silhouette pass:
+/// the layer of 50 coincident copies equals the layer of one, texel for texel.
+TEST(SilhouetteMapCost, CoincidentCopiesAreDrawnOnce) {
+  const auto stack = [](int copies) {
+    // One mesh per copy (copies welded into one mesh would make their shared edges non-manifold,
+    // hence silhouettes).
+    Scene z;
+    for (int k = 0; k < copies; ++k) {
+      Mesh m;
+      m.positions = {Vec3(-0.5f, 1.0f, -0.5f), Vec3(0.5f, 1.0f, -0.5f), Vec3(-0.5f, 1.0f, 0.5f),
+                     Vec3(0.5f, 1.0f, 0.5f)};
+      m.triangles = {{{0, 2, 1}}, {{1, 2, 3}}};
+      z.meshes.push_back(m);
+    }
+    return z;
+  };
+  const Vec3 cover[2] = {Vec3(-1, 0, -1), Vec3(1, 0, 1)};
+  DepthMapSpec spec;
+  spec.resolution = 128;
+  const Scene one = stack(1), many = stack(50);
+  const DepthMap map = render_depth_map(one, Vec3(0, 3, 0), cover, spec);
+  const silmap::SilhouetteLayer a = silmap::render_silhouettes(silmap::build_tam(one), map, 1.5);
+  const silmap::SilhouetteLayer b = silmap::render_silhouettes(silmap::build_tam(many), map, 1.5);
+  EXPECT_EQ(a.duplicate_faces, 0u);
+  EXPECT_EQ(b.duplicate_faces, 49u * 2u);
+  EXPECT_EQ(a.texels_visited, b.texels_visited);
+  ASSERT_EQ(a.depth.size(), b.depth.size());
+  EXPECT_EQ(
+      std::memcmp(a.depth.pixels().data(), b.depth.pixels().data(), a.depth.size() * sizeof(float)),
+      0);
+  EXPECT_EQ(std::memcmp(a.distance.pixels().data(), b.distance.pixels().data(),
+                        a.distance.size() * sizeof(float)),
+            0);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "method_args.hpp"
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
@@ -121,7 +122,8 @@ void add_compare_command(CLI::App& app) {
   cmd->add_option("TEST", args->test, "Visibility file to judge")->required();
   cmd->add_option("--out", args->out, "Folder for compare.json and error_map.png");
   cmd->add_option("--error-scale", args->error_scale,
-                  "Error mapped to the top of the colour scale (default: max error)");
+                  "Error mapped to the top of the colour scale (default: max error)")
+      ->transform(positive_finite());
   cmd->callback([args] { run_compare(*args); });
 }
 

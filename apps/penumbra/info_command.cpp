@@ -62,10 +62,19 @@ void run_info(const std::string& name) {
 
 void add_info_command(CLI::App& app) {
   auto scene = std::make_shared<std::string>();
+  auto scene_option = std::make_shared<std::string>();
   CLI::App* cmd =
       app.add_subcommand("info", "Describe a scene: triangles, bounds, lights, mesh topology");
-  cmd->add_option("SCENE", *scene, "Built-in scene name or scene .json file")->required();
-  cmd->callback([scene] { run_info(*scene); });
+  // The scene as the other commands take it (--scene) or positionally, one of the two.
+  CLI::Option* positional =
+      cmd->add_option("SCENE", *scene, "Built-in scene name, scene .json file or model file");
+  CLI::Option* named = cmd->add_option("--scene", *scene_option, "The same, as render takes it");
+  positional->excludes(named);
+  cmd->callback([scene, scene_option, positional, named] {
+    if (positional->count() == 0 && named->count() == 0)
+      throw Error("info: a scene is required (penumbra info SCENE or penumbra info --scene SCENE)");
+    run_info(positional->count() > 0 ? *scene : *scene_option);
+  });
 }
 
 }  // namespace penumbra::cli

@@ -1,4 +1,5 @@
 // penumbra: render soft shadows with every method, compare them with the exact reference.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -8,6 +9,7 @@
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/core/simd.hpp"
 #include "penumbra/core/suggest.hpp"
@@ -38,6 +40,23 @@ std::string usage_message(const CLI::App& app, const CLI::ParseError& e, int arg
   }
   const auto parsed = app.get_subcommands();
   const std::string who = parsed.empty() ? "" : parsed.front()->get_name() + ": ";
+  if (!parsed.empty()) {
+    // A mistyped long option (--sample for --samples) is the cause of the error, whichever CLI11
+    // reports (unexpected arguments, or the option it stood for missing): name it and the nearest
+    // option of the command.
+    std::vector<std::string> options;
+    for (const CLI::Option* option : parsed.front()->get_options())
+      for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
+    for (int i = 2; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg.rfind("--", 0) != 0 || arg.size() == 2) continue;
+      const std::string name = arg.substr(0, arg.find('='));
+      if (std::find(options.begin(), options.end(), name) != options.end()) continue;
+      return who + "unknown option " + penumbra::quote(name) +
+             penumbra::did_you_mean(name, options) + " (see " + parsed.front()->get_name() +
+             " --help)";
+    }
+  }
   return who + e.what() + " (see --help)";
 }
 
@@ -57,6 +76,8 @@ int main(int argc, char** argv) {
   penumbra::cli::add_view_command(app);
   try {
     penumbra::simd::configure_from_environment();
+    // Ctrl-C or a kill while an output is written must not leave its hidden temporary behind.
+    penumbra::remove_temporaries_on_signal();
     app.parse(argc, argv);  // runs the chosen subcommand's callback
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

@@ -1,20 +1,108 @@
 #include "method_args.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <optional>
+#include <string_view>
+#include <system_error>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/suggest.hpp"
+#include "penumbra/pipeline/outputs.hpp"
 
 namespace penumbra::cli {
 
+namespace {
+
+/// `text` whole as a base-10 unsigned integer (std::from_chars: no sign, blanks, hex or octal).
+std::optional<uint64_t> parse_base10(std::string_view text) {
+  uint64_t value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value, 10);
+  if (text.empty() || ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
 void parse_size(const std::string& text, Camera& camera) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w < 1 || h < 1 || w > 16384 || h > 16384)
+  const size_t x = text.find_first_of("xX");
+  const std::optional<uint64_t> w =
+      x == std::string::npos ? std::nullopt : parse_base10(text.substr(0, x));
+  const std::optional<uint64_t> h =
+      x == std::string::npos ? std::nullopt : parse_base10(text.substr(x + 1));
+  if (!w || !h || *w < 1 || *h < 1 || *w > 16384 || *h > 16384)
     throw Error("--size: expected WxH with 1..16384 pixels each, got " + quote(text));
-  camera.width = w;
-  camera.height = h;
+  camera.width = static_cast<int>(*w);
+  camera.height = static_cast<int>(*h);
+}
+
+CLI::Validator size_value() {
+  return CLI::Validator(
+      [](std::string& text) {
+        Camera unused;
+        try {
+          parse_size(text, unused);
+        } catch (const Error& e) {
+          return std::string(e.what()).substr(std::string("--size: ").size());
+        }
+        return std::string();
+      },
+      "WxH");
+}
+
+CLI::Validator base10_integer(uint64_t lo, uint64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) {
+        const std::optional<uint64_t> value = parse_base10(text);
+        if (!value)
+          return quote(text) + " is not a base-10 integer in [" + std::to_string(lo) + ", " +
+                 std::to_string(hi) + "]";
+        if (*value < lo || *value > hi)
+          return std::to_string(*value) + " is outside [" + std::to_string(lo) + ", " +
+                 std::to_string(hi) + "]";
+        text = std::to_string(*value);  // CLI11 reads a leading 0 as octal: no leading zeros
+        return std::string();
+      },
+      "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
+}
+
+CLI::Validator positive_finite() {
+  return CLI::Validator(
+      [](std::string& text) {
+        double value = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value,
+                                               std::chars_format::general);
+        if (text.empty() || ec != std::errc{} || end != text.data() + text.size() ||
+            !std::isfinite(value) || !(value > 0.0))
+          return quote(text) + " is not a finite number > 0";
+        return std::string();
+      },
+      "POSITIVE");
+}
+
+std::vector<std::string> split_aovs(const std::vector<std::string>& values) {
+  std::string known;
+  for (const std::string& n : aov_names()) known += (known.empty() ? "" : ", ") + n;
+  std::vector<std::string> out;
+  for (const std::string& value : values) {
+    size_t begin = 0;
+    while (true) {
+      const size_t comma = value.find(',', begin);
+      const std::string name =
+          value.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
+      if (name.empty())
+        throw Error("--aov: an empty AOV name in " + quote(value) + " (known: " + known + ")");
+      if (std::find(aov_names().begin(), aov_names().end(), name) == aov_names().end())
+        throw Error("--aov: unknown AOV " + quote(name) + did_you_mean(name, aov_names()) +
+                    " (known: " + known + ")");
+      if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+      if (comma == std::string::npos) break;
+      begin = comma + 1;
+    }
+  }
+  return out;
 }
 
 std::map<std::string, std::map<std::string, std::string>> parse_sets(
@@ -54,7 +142,10 @@ std::vector<MethodOptions> resolve_method_options(const std::vector<const Method
                                                   const std::vector<std::string>& set_args) {
   const auto sets = parse_sets(set_args);
   for (const auto& [name, values] : sets) {
-    MethodRegistry::builtin().get(name);  // unknown method → error
+    // Every --set is checked against its method's declaration, rendered or not: a typo in a
+    // value is an error even when that method is left out of this run.
+    const MethodInfo& info = MethodRegistry::builtin().get(name);  // unknown method → error
+    resolve_options(info, values);
     if (std::none_of(methods.begin(), methods.end(),
                      [&](const MethodInfo* m) { return m->name == name; }))
       std::fprintf(stderr, "penumbra: warning: --set for %s, which is not rendered\n",
@@ -71,7 +162,14 @@ std::vector<MethodOptions> resolve_method_options(const std::vector<const Method
 
 SamplePattern parse_pattern(const std::string& name) {
   const auto pattern = parse_sample_pattern(name);
-  if (!pattern) throw Error("--pattern: unknown light-sample pattern " + quote(name));
+  if (!pattern) {
+    std::vector<std::string> names;
+    for (const SamplePattern p : all_sample_patterns()) names.emplace_back(to_string(p));
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw Error("--pattern: unknown light-sample pattern " + quote(name) +
+                did_you_mean(name, names) + " (patterns: " + list + ")");
+  }
   return *pattern;
 }
 

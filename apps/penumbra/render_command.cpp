@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -202,6 +203,12 @@ void run_render(const RenderArgs& args) {
   ProcessCosts costs;
   costs.startup_ms =
       std::chrono::duration<double, std::milli>(command_start - process_start()).count();
+  // Every argument is checked before the scene is read: a typo is reported at once, not after
+  // a long load.
+  const SamplePattern pattern = parse_pattern(args.pattern);
+  std::vector<const MethodInfo*> methods = selected_methods(args.methods);
+  const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
+  const std::vector<std::string> aovs = split_aovs(args.aovs);
   // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
   // mostly the first touch of their pages) are allocated by a task of their own while this thread
   // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
@@ -222,13 +229,9 @@ void run_render(const RenderArgs& args) {
   costs.load_ms = elapsed_ms(command_start);
   const auto setup_start = std::chrono::steady_clock::now();
   if (!args.size.empty()) parse_size(args.size, scene.camera);
-  const SamplePattern pattern = parse_pattern(args.pattern);
   const ShadingMode shading =
       args.shading == "integrate" ? ShadingMode::integrate : ShadingMode::modulate;
   const FloatFormat format = args.float_format == "pfm" ? FloatFormat::pfm : FloatFormat::exr;
-
-  std::vector<const MethodInfo*> methods = selected_methods(args.methods);
-  const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
 
   std::string device_name = "cpu";
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -274,9 +277,9 @@ void run_render(const RenderArgs& args) {
   // nothing beside them (their ratios are the tables' figures); then it is computed after the
   // first, on all cores.
   if (methods.size() == 1) frame.start_unshadowed_in_background();
-  if (!args.aovs.empty()) {
+  if (!aovs.empty()) {
     const auto aovs_start = std::chrono::steady_clock::now();
-    write_aovs(out_dir, frame.gbuffer(), args.aovs, format);
+    write_aovs(out_dir, frame.gbuffer(), aovs, format);
     costs.aovs_ms = elapsed_ms(aovs_start);
   }
 
@@ -285,14 +288,15 @@ void run_render(const RenderArgs& args) {
   std::optional<MethodResult> exact;
   std::vector<TableRow> rows;
   for (size_t m = 0; m < methods.size(); ++m) {
-    std::fprintf(stderr, "  %-16s ...", methods[m]->name.c_str());
-    std::fflush(stderr);
-    set_stderr_line_open(true);
+    char line[128];
+    std::snprintf(line, sizeof line, "  %-16s", methods[m]->name.c_str());
+    begin_status_line(line);
     const auto run_start = std::chrono::steady_clock::now();
     MethodResult result = frame.run(*methods[m], options[m], shading == ShadingMode::integrate);
     costs.methods_ms += elapsed_ms(run_start);
-    std::fprintf(stderr, "\r  %-16s %10.1f ms\n", methods[m]->name.c_str(), result.total_ms);
-    set_stderr_line_open(false);
+    std::snprintf(line, sizeof line, "  %-16s %10.1f ms", methods[m]->name.c_str(),
+                  result.total_ms);
+    end_status_line(line);
     for (size_t l = 0; l < scene.lights.size(); ++l) frame.unshadowed(l);
 
     const auto outputs_start = std::chrono::steady_clock::now();
@@ -350,19 +354,20 @@ void add_render_command(CLI::App& app) {
       ->required();
   cmd->add_option("--method", args->methods, "Method name (repeatable) or 'all'")->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
-      ->check(CLI::Range(1, 64));
+      ->transform(base10_integer(1, 64));
   cmd->add_option(
       "--pattern", args->pattern,
       "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, poisson");
-  cmd->add_option("--seed", args->seed, "Seed of the random sample patterns");
-  cmd->add_option("--size", args->size, "Image size WxH (overrides the scene's camera)");
+  cmd->add_option("--seed", args->seed, "Seed of the random sample patterns")
+      ->transform(base10_integer(0, std::numeric_limits<uint64_t>::max()));
+  cmd->add_option("--size", args->size, "Image size WxH (overrides the scene's camera)")
+      ->transform(size_value());
   cmd->add_option("--set", args->sets, "Method option, method.option=value (repeatable)");
   cmd->add_option("--out", args->out, "Output folder")->required();
   cmd->add_option("--float-format", args->float_format, "Float image format")
       ->check(CLI::IsMember({"exr", "pfm"}));
   cmd->add_option("--aov", args->aovs,
-                  "G-buffer layers to write: position,normal,shading_normal,depth,uv,mesh_id")
-      ->delimiter(',');
+                  "G-buffer layers to write: position,normal,shading_normal,depth,uv,mesh_id");
   cmd->add_option("--shading", args->shading,
                   "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
       ->check(CLI::IsMember({"modulate", "integrate"}));

@@ -1,11 +1,13 @@
 // `penumbra report`: every method × scene in one process, one self-contained HTML page.
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include "commands.hpp"
 #include "method_args.hpp"
 #include "penumbra/core/error.hpp"
 #include "penumbra/report/report.hpp"
+#include "penumbra/scene/scene_file.hpp"
 
 namespace penumbra::cli {
 
@@ -44,6 +46,8 @@ std::string command_line(const ReportArgs& a) {
 }
 
 void run_report(const ReportArgs& args) {
+  // Every scene is checked before the first is rendered.
+  for (const std::string& scene : args.scenes) check_scene_name(scene);
   report::ReportSpec spec;
   spec.scenes = args.scenes;
   spec.methods = selected_methods(args.methods);
@@ -79,15 +83,17 @@ void add_report_command(CLI::App& app) {
                   "Method name (repeatable) or 'all'; exact is always run when it is the reference")
       ->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
-      ->check(CLI::Range(1, 64))
+      ->transform(base10_integer(1, 64))
       ->capture_default_str();
   cmd->add_option(
          "--pattern", args->pattern,
          "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, poisson")
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the random sample patterns")
+      ->transform(base10_integer(0, std::numeric_limits<uint64_t>::max()))
       ->capture_default_str();
-  cmd->add_option("--size", args->size, "Image size WxH (overrides every scene's camera)");
+  cmd->add_option("--size", args->size, "Image size WxH (overrides every scene's camera)")
+      ->transform(size_value());
   cmd->add_option("--set", args->sets, "Method option, method.option=value (repeatable)");
   cmd->add_option("--sweep", args->sweeps,
                   "Sweep on the first scene: samples, light_size, resolution (repeatable)")
@@ -95,7 +101,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--error-scale", args->error_scale,
                   "Error at the top of every error map's colour scale (default: per scene, the "
                   "median over the methods of their 99th-percentile error)")
-      ->check(CLI::PositiveNumber);
+      ->transform(positive_finite());
   cmd->add_option("--reference", args->reference,
                   "What errors are measured against: exact (the analytic integral) or raytrace "
                   "(Embree with --reference-samples², for scenes where exact is too slow)")
@@ -103,7 +109,7 @@ void add_report_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--reference-samples", args->reference_samples,
                   "K: the raytrace reference's K×K light samples (same pattern and seed)")
-      ->check(CLI::Range(1, 64))
+      ->transform(base10_integer(1, 64))
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Output folder (index.html, report.json, results.md)")
       ->required();

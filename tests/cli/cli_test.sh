@@ -161,7 +161,8 @@ expect_error "info" info
 expect_error "unknown command 'rendr' (did you mean 'render'?)" rendr --scene quad
 expect_error "a command is required" 
 expect_error "--out is required" render --scene quad --method exact
-expect_error "--scene is required" render --bogus-flag
+expect_error "--scene is required" render --method exact --out "$work/x"
+expect_error "unknown option '--bogus-flag'" render --bogus-flag
 expect_error "--float-format" render --scene quad --method exact --float-format tiff --out "$work/x"
 expect_error "did you mean 'exact'?" render --scene quad --method exct --out "$work/x"
 expect_error "did you mean 'spheres'?" render --scene sphere --method exact --out "$work/x"
@@ -195,6 +196,58 @@ rc=$?
 [ "$rc" -eq 1 ] && [ "$(grep -c '^penumbra: error: cannot write to standard output' <<<"$err")" -eq 1 ] && ok ||
   bad "list >/dev/full: exit $rc: $err"
 expect_error "cannot compare images of different sizes" compare "$work/r/exact/visibility.exr" "$work/p/visibility.pfm"
+# Numbers read strictly (whole value, base 10, in range): no 32-bit wrap, no hex, no negative
+# seed taken modulo 2^64, no empty value read as 0 or ignored.
+expect_error "--size" render --scene quad --method raytrace --size 4294967297x1 --out "$work/x"
+expect_error "--size" render --scene quad --method raytrace --size '' --out "$work/x"
+expect_error "--size" render --scene quad --method raytrace --size ' 16x16' --out "$work/x"
+expect_error "--size" report --scene quad --method raytrace --size 16x-16 --out "$work/x"
+expect_error "'0x10' is not a base-10 integer" render --scene quad --method raytrace --samples 0x10 --out "$work/x"
+expect_error "65 is outside [1, 64]" render --scene quad --method raytrace --samples 65 --out "$work/x"
+expect_error "'-1' is not a base-10 integer" render --scene quad --method gears --seed -1 --out "$work/x"
+expect_error "'' is not a base-10 integer" render --scene quad --method gears --seed '' --out "$work/x"
+expect_error "'18446744073709551616' is not a base-10 integer" render --scene quad --method gears --seed 18446744073709551616 --out "$work/x"
+expect_error "'-3' is not a base-10 integer" report --scene quad --method raytrace --seed -3 --out "$work/x"
+for scale in nan -1 '' inf 0; do
+  expect_error "is not a finite number > 0" compare "$work/r/exact/visibility.exr" "$work/r/exact/visibility.exr" --error-scale "$scale"
+  expect_error "is not a finite number > 0" report --scene quad --method raytrace --error-scale "$scale" --out "$work/x"
+done
+# The largest seed and a leading zero (CLI11 alone reads 010 as octal 8) are taken as written.
+if "$bin" render --scene quad --method gears --pattern poisson --samples 2 --size 8x8   --seed 18446744073709551615 --out "$work/seed" >/dev/null 2>&1 &&
+  grep -q '"seed": 18446744073709551615' "$work/seed/stats.json" &&
+  "$bin" render --scene quad --method gears --pattern poisson --samples 2 --size 8x8 --seed 010 \
+    --out "$work/seed10" >/dev/null 2>&1 && grep -q '"seed": 10' "$work/seed10/stats.json"; then
+  ok
+else
+  bad "--seed 2^64-1 / 010 not taken as written: $(grep '"seed"' "$work/seed/stats.json" "$work/seed10/stats.json" 2>&1)"
+fi
+# Every argument checked before the first scene is read or rendered, each named correctly.
+expect_error "--aov: an empty AOV name in ','" render --scene quad --method exact --size 16x16 --samples 1 --aov , --float-format pfm --out "$work/x"
+expect_error "--aov: unknown AOV 'normals' (did you mean 'normal'?)" render --scene quad --method exact --aov position,normals --out "$work/x"
+err="$("$bin" render --scene quad --method exact --aov bogus --out "$work/x" 2>&1)"
+grep -q "^scene " <<<"$err" && bad "an unknown AOV was reported after the scene was loaded: $err" || ok
+err="$("$bin" report --scene quad --scene nosuch --method raytrace --size 16x16 --samples 1 --out "$work/rep2" 2>&1)"
+rc=$?
+[ "$rc" -eq 1 ] && grep -q "unknown scene 'nosuch'" <<<"$err" && ! grep -q "raytrace .* ms" <<<"$err" &&
+  [ ! -e "$work/rep2/quad" ] && ok || bad "report --scene nosuch after quad: exit $rc, rendered first: $err"
+expect_error "gears.grid: 'abc'" render --scene quad --method raytrace --set gears.grid=abc --out "$work/x"
+expect_error "(patterns: grid, stratified, decorrelated, interleaved, halton, poisson)" render --scene quad --method raytrace --pattern random --out "$work/x"
+expect_error "unknown option '--sample' (did you mean '--samples'?)" render --scene quad --method raytrace --sample 4 --out "$work/x"
+expect_error "unknown option '--methd' (did you mean '--method'?)" report --scene quad --methd raytrace --out "$work/x"
+# info takes the scene positionally or as --scene, as every other command does.
+"$bin" info --scene quad | grep -q "^triangles" && ok || bad "info --scene quad"
+expect_error "a scene is required" info
+# Progress written to a log or a pipe: plain newline-terminated lines, no carriage returns.
+"$bin" render --scene quad --method raytrace --method shadow_map --samples 1 --size 16x16 \
+  --out "$work/log" >/dev/null 2>"$work/log.txt"
+if grep -q $'\r' "$work/log.txt"; then
+  bad "stderr to a file holds carriage returns: $(tr '\r' '^' <"$work/log.txt" | head -5)"
+else
+  grep -q "^  shadow_map  .* ms$" "$work/log.txt" && ok || bad "no plain line per method: $(cat "$work/log.txt")"
+fi
+"$bin" report --scene quad --method raytrace --samples 1 --size 16x16 --out "$work/replog" \
+  >/dev/null 2>"$work/replog.txt"
+grep -q $'\r' "$work/replog.txt" && bad "report stderr holds carriage returns" || ok
 # --help shows defaults.
 "$bin" render --help | grep -q -- "--samples.*=16" && ok || bad "render --help lacks the --samples default"
 

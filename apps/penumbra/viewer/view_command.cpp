@@ -1,4 +1,7 @@
 // `penumbra view`: the scene in a window, the method recomputed as the light and camera move.
+#include <cstdint>
+#include <limits>
+
 #include "../commands.hpp"
 #include "../method_args.hpp"
 #include "penumbra/core/error.hpp"
@@ -17,8 +20,6 @@ struct ViewArgs {
 
 void run_view(ViewArgs& args) {
   // Everything the user typed is checked before the window opens.
-  Scene scene = load_scene(args.viewer.scene, to_framing(args.framing));
-  if (!args.viewer.size.empty()) parse_size(args.viewer.size, scene.camera);
   parse_pattern(args.viewer.pattern);
   if (!args.viewer.method.empty()) {
     const std::vector<const MethodInfo*> methods = selected_methods({args.viewer.method});
@@ -31,6 +32,8 @@ void run_view(ViewArgs& args) {
   }
   std::vector<viewer::ScriptCommand> script;
   if (!args.viewer.script.empty()) script = viewer::read_script(args.viewer.script);
+  Scene scene = load_scene(args.viewer.scene, to_framing(args.framing));
+  if (!args.viewer.size.empty()) parse_size(args.viewer.size, scene.camera);
   viewer::run_viewer(args.viewer, std::move(scene), std::move(script));
 }
 
@@ -51,21 +54,23 @@ void add_view_command(CLI::App& app) {
       ->check(CLI::IsMember({"cpu", "vulkan"}));
   cmd->add_option("--vk-device", args->viewer.vk_device,
                   "Vulkan device: index or name substring (as for render)");
-  cmd->add_option("--size", args->viewer.size, "Full image size WxH (overrides the scene's)");
+  cmd->add_option("--size", args->viewer.size, "Full image size WxH (overrides the scene's)")
+      ->transform(size_value());
   cmd->add_option("--samples", args->viewer.samples,
                   "K: K×K light samples per pixel (1 = light centre)")
-      ->check(CLI::Range(1, 64));
+      ->transform(base10_integer(1, 64));
   cmd->add_option("--pattern", args->viewer.pattern,
                   "Light-sample pattern: grid, stratified, decorrelated, interleaved, halton, "
                   "poisson");
-  cmd->add_option("--seed", args->viewer.seed, "Seed of the random sample patterns");
+  cmd->add_option("--seed", args->viewer.seed, "Seed of the random sample patterns")
+      ->transform(base10_integer(0, std::numeric_limits<uint64_t>::max()));
   cmd->add_option("--set", args->sets, "Method option, method.option=value (repeatable)");
   cmd->add_option("--script", args->viewer.script,
                   "Run the commands of FILE, one per line, then exit (docs/viewer.md)");
   cmd->add_option("--preview-divisor", args->viewer.preview_divisor,
                   "While the user drags, frames are this many times smaller on each side "
                   "(1: always full size)")
-      ->check(CLI::Range(1, 64));
+      ->transform(base10_integer(1, 64));
   cmd->add_option("--settle-ms", args->viewer.settle_ms,
                   "Milliseconds without an edit after which the full-size frame is computed")
       ->check(CLI::Range(0.0, 10000.0));
@@ -75,7 +80,7 @@ void add_view_command(CLI::App& app) {
       ->check(CLI::IsMember({"exact", "raytrace"}));
   cmd->add_option("--reference-samples", args->viewer.reference_samples,
                   "K: the raytrace reference's K×K light samples")
-      ->check(CLI::Range(1, 64));
+      ->transform(base10_integer(1, 64));
   cmd->add_flag("--trace", args->viewer.trace,
                 "Print one line per frame shown: where its time went, and its latency");
   add_framing_options(*cmd, args->framing);

@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -30,6 +33,74 @@ void require_regular_file(const fs::path& path, std::string_view what) {
     throw Error(std::string(what) + " " + quote(path.string(), 200) + ": " + problem);
 }
 
+namespace {
+
+// The temporaries being written, for the signal handler: fixed slots (a handler may not
+// allocate or lock), each claimed with a compare-and-swap. A slot's path is complete before its
+// state says so; the handler reads only complete slots.
+constexpr size_t kTemporarySlots = 64;
+constexpr size_t kTemporaryPathBytes = 4096;
+enum SlotState : int { kFree = 0, kFilling = 1, kActive = 2 };
+struct TemporarySlot {
+  std::atomic<int> state{kFree};
+  char path[kTemporaryPathBytes] = {};
+};
+std::array<TemporarySlot, kTemporarySlots> g_temporaries;
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slots");
+
+/// Registers a temporary for the lifetime of the object (no slot free, or a path too long: not
+/// registered, the file is then only removed by the normal paths).
+class TemporaryRegistration {
+ public:
+  explicit TemporaryRegistration(const fs::path& path) {
+    const std::string& text = path.native();
+    if (text.size() >= kTemporaryPathBytes) return;
+    for (TemporarySlot& slot : g_temporaries) {
+      int expected = kFree;
+      if (!slot.state.compare_exchange_strong(expected, kFilling)) continue;
+      std::memcpy(slot.path, text.c_str(), text.size() + 1);
+      slot.state.store(kActive);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~TemporaryRegistration() {
+    if (slot_) slot_->state.store(kFree);
+  }
+  TemporaryRegistration(const TemporaryRegistration&) = delete;
+  TemporaryRegistration& operator=(const TemporaryRegistration&) = delete;
+
+ private:
+  TemporarySlot* slot_ = nullptr;
+};
+
+/// Only async-signal-safe calls: unlink, signal, raise.
+extern "C" void remove_temporaries_and_reraise(int signal_number) {
+  const int saved_errno = errno;
+  for (TemporarySlot& slot : g_temporaries)
+    if (slot.state.load() == kActive) ::unlink(slot.path);
+  errno = saved_errno;
+  // The default action now (terminate), so the parent sees the process killed by this signal.
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+}  // namespace
+
+void remove_temporaries_on_signal() {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction previous {};
+    if (::sigaction(signal_number, nullptr, &previous) != 0) continue;
+    // A signal the caller ignores (nohup, a background job's SIGINT) stays ignored.
+    if (previous.sa_handler == SIG_IGN) continue;
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_reraise;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    ::sigaction(signal_number, &action, nullptr);
+  }
+}
+
 void write_file_atomically(const fs::path& path,
                            const std::function<void(const fs::path& temporary)>& write) {
   const std::string who = "cannot write " + quote(path.string(), 200);
@@ -41,6 +112,7 @@ void write_file_atomically(const fs::path& path,
   name += ".partial-";
   name += std::to_string(::getpid());
   const fs::path temporary = path.parent_path() / name;
+  const TemporaryRegistration registration(temporary);
   try {
     write(temporary);
   } catch (const Error&) {

@@ -24,6 +24,12 @@ void write_file_atomically(
     const std::filesystem::path& path,
     const std::function<void(const std::filesystem::path& temporary)>& write);
 
+/// Makes SIGINT, SIGTERM and SIGHUP remove the temporaries write_file_atomically is writing
+/// (hidden ".NAME.partial-PID" files, up to the size of the output) before the process dies of
+/// the signal, as it would have without the handler. Signals the process ignores stay ignored.
+/// For programs (the CLI), not libraries: it replaces the handlers of those signals.
+void remove_temporaries_on_signal();
+
 /// write_file_atomically for text or bytes, every write checked.
 void write_text_file(const std::filesystem::path& path, std::string_view text);
 

@@ -18,6 +18,19 @@ bool stderr_line_open() {
   return g_stderr_line_open.load();
 }
 
+void begin_status_line(const std::string& running) {
+  if (!isatty(STDERR_FILENO)) return;
+  std::fprintf(stderr, "%s ...", running.c_str());
+  std::fflush(stderr);
+  set_stderr_line_open(true);
+}
+
+void end_status_line(const std::string& done) {
+  // On a terminal the running line is overwritten and cleared to its end.
+  std::fprintf(stderr, "%s%s\n", stderr_line_open() ? "\r\033[K" : "", done.c_str());
+  set_stderr_line_open(false);
+}
+
 Progress::Progress(std::string label, size_t total)
     : label_(std::move(label)), total_(total), enabled_(enabled() && total > 0) {}
 

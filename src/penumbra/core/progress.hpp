@@ -27,6 +27,12 @@ class Progress {
   bool enabled_;
 };
 
+/// A per-method status line: on a terminal "  name ..." while it runs, completed in place
+/// ("\r  name   12.3 ms"); in a log or a pipe only the completed line, plain and
+/// newline-terminated (a "\r" there joins the two into one garbled line).
+void begin_status_line(const std::string& running);
+void end_status_line(const std::string& done);
+
 /// Whether stderr holds an unterminated line (a progress percentage, a "method ..." status): an
 /// error printed then must start a fresh line rather than be appended to it.
 void set_stderr_line_open(bool open);

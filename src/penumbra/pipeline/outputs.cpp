@@ -55,6 +55,12 @@ void write_visibility(const std::filesystem::path& dir, const Frame& frame,
   write_pfm(dir / "mask.pfm", surface_mask(frame.gbuffer()));
 }
 
+const std::vector<std::string>& aov_names() {
+  static const std::vector<std::string> names = {"position", "normal", "shading_normal",
+                                                 "depth",    "uv",     "mesh_id"};
+  return names;
+}
+
 void write_aovs(const std::filesystem::path& dir, const GBuffer& g,
                 const std::vector<std::string>& aovs, FloatFormat format) {
   const auto write_vec3 = [&](const std::string& name, const Image<Vec3>& img) {
@@ -93,8 +99,9 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& g,
       for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<float>(g.mesh_id[i]);
       write_scalar("mesh_id", ids);
     } else {
-      throw Error("unknown AOV " + quote(aov) +
-                  " (known: position, normal, shading_normal, depth, uv, mesh_id)");
+      std::string known;
+      for (const std::string& name : aov_names()) known += (known.empty() ? "" : ", ") + name;
+      throw Error("unknown AOV " + quote(aov) + " (known: " + known + ")");
     }
   }
 }

@@ -30,6 +30,9 @@ VisibilityLayers visibility_layers(const Frame& frame, const MethodResult& resul
 void write_visibility(const std::filesystem::path& dir, const Frame& frame,
                       const MethodResult& result, FloatFormat format);
 
+/// The AOV names write_aovs knows, in the order `--help` lists them.
+const std::vector<std::string>& aov_names();
+
 /// Writes the G-buffer layers named in `aovs` (position, normal, shading_normal, depth, uv,
 /// mesh_id) as float images.
 void write_aovs(const std::filesystem::path& dir, const GBuffer& gbuffer,

@@ -93,6 +93,15 @@ template <typename Fn>
 int rasterize_triangle(const DVec3& a, const DVec3& b, const DVec3& c, int width, int row_begin,
                        int row_end, Fn&& fn);
 
+/// rasterize_triangle restricted to spans of each row: spans(y, emit) calls emit(x_lo, x_hi) for
+/// each column range [x_lo, x_hi] of row y worth visiting (disjoint ranges: a pixel in two is
+/// drawn twice). The pixels drawn are those rasterize_triangle draws within the spans, with the
+/// same inv_w, bit for bit; a caller that needs only a thin part of a large triangle (a band along
+/// its edges) pays for that part instead of its area.
+template <typename Spans, typename Fn>
+int rasterize_triangle_spans(const DVec3& a, const DVec3& b, const DVec3& c, int width,
+                             int row_begin, int row_end, Spans&& spans, Fn&& fn);
+
 /// Calls fn(first, last) with consecutive row bands [first, last) of at most `band` rows covering
 /// [0, height), in parallel (oneTBB). Each output row belongs to one band: deterministic.
 template <typename Fn>

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "penumbra/core/parallel.hpp"
 
@@ -19,9 +20,9 @@ inline bool owns_centres(double dx, double dy) {
 
 }  // namespace raster_detail
 
-template <typename Fn>
-int rasterize_triangle(const DVec3& a0, const DVec3& b0, const DVec3& c0, int width, int row_begin,
-                       int row_end, Fn&& fn) {
+template <typename Spans, typename Fn>
+int rasterize_triangle_spans(const DVec3& a0, const DVec3& b0, const DVec3& c0, int width,
+                             int row_begin, int row_end, Spans&& spans, Fn&& fn) {
   const double area = (b0.x - a0.x) * (c0.y - a0.y) - (b0.y - a0.y) * (c0.x - a0.x);
   if (!(area != 0.0) || !std::isfinite(area)) return 0;
   const int facing = area > 0.0 ? 1 : -1;
@@ -61,20 +62,30 @@ int rasterize_triangle(const DVec3& a0, const DVec3& b0, const DVec3& c0, int wi
   }
   for (int y = y_lo; y <= y_hi; ++y) {
     const double py = y + 0.5;
-    for (int x = x_lo; x <= x_hi; ++x) {
-      const double px = x + 0.5;
-      double w[3];
-      bool inside = true;
-      for (int i = 0; i < 3 && inside; ++i) {
-        w[i] = sign[i] * (ex[i] * (py - by[i]) - ey[i] * (px - bx[i]));
-        inside = w[i] > 0.0 || (w[i] == 0.0 && owns[i]);
+    spans(y, [&](int span_lo, int span_hi) {
+      for (int x = std::max(x_lo, span_lo); x <= std::min(x_hi, span_hi); ++x) {
+        const double px = x + 0.5;
+        double w[3];
+        bool inside = true;
+        for (int i = 0; i < 3 && inside; ++i) {
+          w[i] = sign[i] * (ex[i] * (py - by[i]) - ey[i] * (px - bx[i]));
+          inside = w[i] > 0.0 || (w[i] == 0.0 && owns[i]);
+        }
+        if (!inside) continue;
+        const double inv_w = (w[0] * a.z + w[1] * b.z + w[2] * c.z) * inv_area;
+        fn(x, y, inv_w);
       }
-      if (!inside) continue;
-      const double inv_w = (w[0] * a.z + w[1] * b.z + w[2] * c.z) * inv_area;
-      fn(x, y, inv_w);
-    }
+    });
   }
   return facing;
+}
+
+template <typename Fn>
+int rasterize_triangle(const DVec3& a, const DVec3& b, const DVec3& c, int width, int row_begin,
+                       int row_end, Fn&& fn) {
+  const auto whole_row = [width](int, auto&& emit) { emit(0, width - 1); };
+  return rasterize_triangle_spans(a, b, c, width, row_begin, row_end, whole_row,
+                                  std::forward<Fn>(fn));
 }
 
 template <typename Fn>

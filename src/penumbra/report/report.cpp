@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/progress.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/report/report_data.hpp"
@@ -43,14 +44,18 @@ Run run_one(const Frame& frame, const MethodInfo& info, const MethodOptions& opt
             const std::string& name, const char* what) {
   Run r;
   r.name = name;
-  std::fprintf(stderr, "  %-10s %-16s ...", what, name.c_str());
-  std::fflush(stderr);
+  char line[160];
+  std::snprintf(line, sizeof line, "  %-10s %-16s", what, name.c_str());
+  begin_status_line(line);
   try {
     r.result = frame.run(info, options, false);
-    std::fprintf(stderr, "\r  %-10s %-16s %10.1f ms\n", what, name.c_str(), r.result->total_ms);
+    std::snprintf(line, sizeof line, "  %-10s %-16s %10.1f ms", what, name.c_str(),
+                  r.result->total_ms);
+    end_status_line(line);
   } catch (const Error& e) {
     r.failure = e.what();
-    std::fprintf(stderr, "\r  %-10s %-16s failed: %s\n", what, name.c_str(), e.what());
+    std::snprintf(line, sizeof line, "  %-10s %-16s failed: ", what, name.c_str());
+    end_status_line(line + one_line(e.what()));
   }
   return r;
 }

@@ -44,7 +44,7 @@ p.meta, p.note { color: var(--muted); margin: 4px 0; font-size: 13.5px; }
 .grid { display: grid; grid-template-columns: repeat(auto-fill, minmax(220px, 1fr)); gap: 14px; }
 figure { margin: 0; }
 figure img { width: 100%; height: auto; display: block; border-radius: 4px; background: #303030; }
-figure.crop img { image-rendering: pixelated; }
+figure.crop img { image-rendering: pixelated; width: auto; max-width: 100%; }
 figcaption { font-size: 13px; margin-top: 4px; }
 figcaption b { font-weight: 650; }
 figcaption span { color: var(--muted); }
@@ -282,7 +282,8 @@ std::string scene_section(const SceneEntry& s) {
     << figure_grid(s, "_signed", false, "signed error", false);
   o << "<h3>Penumbra close-up</h3>\n<p class='note'>The " << s.crop.size << "×" << s.crop.size
     << " window at (" << s.crop.x << ", " << s.crop.y << ") with the most penumbra pixels, "
-    << s.crop_zoom << "× enlarged; beauty, then |V − " << vr << "| on the same scale.</p>"
+    << s.crop_zoom << "× enlarged (each pixel drawn " << s.crop_zoom << "×" << s.crop_zoom
+    << " CSS pixels); beauty, then |V − " << vr << "| on the same scale.</p>"
     << figure_grid(s, "_crop", true, "penumbra crop", true)
     << figure_grid(s, "_crop_abs", false, "penumbra crop error", true);
   o << "<h3>Error and time</h3>\n" << metrics_table(s) << key_html(s.reference);

@@ -1,6 +1,7 @@
 #include "penumbra/report/svg_plot.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 
 namespace penumbra::plot {
 
@@ -148,6 +150,30 @@ const char* palette_color(size_t index) {
   return kPalette[index % std::size(kPalette)];
 }
 
+std::string distinct_color(size_t index, size_t count) {
+  if (count <= std::size(kPalette)) return palette_color(index);
+  // ceil(count / 3) hues evenly spaced around the wheel, each at three lightness levels: colours
+  // of one level differ in hue by at least 360° / hues, those of one hue in lightness.
+  const size_t hues = (count + 2) / 3;
+  const double hue = 6.0 * static_cast<double>(index % hues) / static_cast<double>(hues);
+  const double lightness = std::array<double, 3>{0.47, 0.68, 0.30}[(index / hues) % 3];
+  const double saturation = 0.75;
+  const double chroma = (1.0 - std::fabs(2.0 * lightness - 1.0)) * saturation;
+  const double x = chroma * (1.0 - std::fabs(std::fmod(hue, 2.0) - 1.0));
+  const double m = lightness - 0.5 * chroma;
+  double rgb[3] = {0.0, 0.0, 0.0};
+  const int sector = static_cast<int>(hue) % 6;
+  const int order[6][3] = {{0, 1, 2}, {1, 0, 2}, {1, 2, 0}, {2, 1, 0}, {2, 0, 1}, {0, 2, 1}};
+  // sector k: the channel order[k][0] gets the chroma, order[k][1] x, order[k][2] nothing.
+  rgb[order[sector][0]] = chroma;
+  rgb[order[sector][1]] = x;
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "#%02x%02x%02x", static_cast<int>(std::lround((rgb[0] + m) * 255)),
+                static_cast<int>(std::lround((rgb[1] + m) * 255)),
+                static_cast<int>(std::lround((rgb[2] + m) * 255)));
+  return hex;
+}
+
 std::string tick_label(double value) {
   if (value == 0.0) return "0";
   char b[32];
@@ -192,9 +218,7 @@ std::string xml_escape(const std::string& text) {
 }
 
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  f << text;
-  if (!f) throw Error("cannot write " + path.string());
+  penumbra::write_text_file(path, text);  // atomic: never a truncated file under its name
 }
 
 std::string line_plot_svg(const Chart& chart, const std::vector<Series>& series) {
@@ -247,9 +271,15 @@ std::string line_plot_svg(const Chart& chart, const std::vector<Series>& series)
 
   double ly = top + 8;
   const double lx = left + pw + 14;
+  struct Point {
+    int shape;
+    double x, y, r;
+    std::string colour, title;
+  };
+  std::vector<Point> points;  // every marker, drawn after the lines
   for (size_t i = 0; i < series.size(); ++i) {
     const Series& s = series[i];
-    const std::string c = s.color.empty() ? palette_color(i) : s.color;
+    const std::string c = s.color.empty() ? distinct_color(i, series.size()) : s.color;
     if (s.lines) {
       o << "<polyline fill='none' stroke='" << c << "' stroke-width='2'"
         << (s.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
@@ -263,8 +293,8 @@ std::string line_plot_svg(const Chart& chart, const std::vector<Series>& series)
       const std::string title =
           k < s.tooltip.size() ? s.tooltip[k]
                                : s.name + ": " + tick_label(s.x[k]) + ", " + tick_label(s.y[k]);
-      marker(o, k < s.marker.size() ? s.marker[k] : 0, px(s.x[k]), py(s.y[k]), s.lines ? 3 : 4.5, c,
-             title);
+      points.push_back({k < s.marker.size() ? s.marker[k] : 0, px(s.x[k]), py(s.y[k]),
+                        s.lines ? 3.0 : 4.5, c, title});
     }
     if (s.lines) {
       o << "<line x1='" << num(lx) << "' x2='" << num(lx + 22) << "' y1='" << num(ly) << "' y2='"
@@ -277,6 +307,20 @@ std::string line_plot_svg(const Chart& chart, const std::vector<Series>& series)
       << "</text>\n";
     ly += 18;
   }
+  // Markers that fall on an earlier one (two methods with the same time and error: same scene,
+  // same shape) would hide it exactly: the n-th on a spot is drawn larger by n steps, and the
+  // larger ones first, so that each shows as a ring around the next.
+  for (size_t i = 0; i < points.size(); ++i) {
+    int below = 0;
+    for (size_t j = 0; j < i; ++j)
+      below += std::hypot(points[i].x - points[j].x, points[i].y - points[j].y) < 0.6 * points[j].r
+                   ? 1
+                   : 0;
+    points[i].r *= 1.0 + 0.45 * below;
+  }
+  std::stable_sort(points.begin(), points.end(),
+                   [](const Point& a, const Point& b) { return a.r > b.r; });
+  for (const Point& p : points) marker(o, p.shape, p.x, p.y, p.r, p.colour, p.title);
   if (!chart.marker_names.empty()) ly += 8;
   for (size_t m = 0; m < chart.marker_names.size(); ++m) {
     marker(o, static_cast<int>(m), lx + 11, ly, 4.5, "#555", "");
@@ -314,7 +358,7 @@ std::string stacked_bars_svg(const std::string& title, const std::string& value_
   const double axis_max = std::ceil(max_total / step - 1e-9) * step;
   const auto px = [&](double v) { return left + v / axis_max * pw; };
   std::map<std::string, std::string> color;
-  for (size_t i = 0; i < names.size(); ++i) color[names[i]] = palette_color(i);
+  for (size_t i = 0; i < names.size(); ++i) color[names[i]] = distinct_color(i, names.size());
 
   std::ostringstream o;
   o << svg_open(width, H);

@@ -30,7 +30,7 @@ struct Series {
   bool lines = true;                 // false: markers only (scatter)
   std::vector<int> marker;           // per point: marker shape index (empty: circles)
   std::vector<std::string> tooltip;  // per point: <title> text (empty: "name: x, y")
-  std::string color;                 // empty: palette_color(series index)
+  std::string color;                 // empty: distinct_color(series index, series count)
 };
 
 struct Chart {
@@ -44,6 +44,10 @@ struct Chart {
 
 /// The palette (Tableau 10), cycling.
 const char* palette_color(size_t index);
+
+/// Colour `index` of `count` colours that must all differ: the palette for up to 10, beyond it
+/// count / 3 evenly spaced hues at three lightness levels ("#rrggbb").
+std::string distinct_color(size_t index, size_t count);
 
 /// A line or scatter plot. Points with a non-finite value, or <= 0 on a log axis, are skipped.
 std::string line_plot_svg(const Chart& chart, const std::vector<Series>& series);
@@ -69,7 +73,7 @@ std::string tick_label(double value);
 /// Escapes &, <, >, ' and " for SVG/HTML text and attributes.
 std::string xml_escape(const std::string& text);
 
-/// Writes an SVG (or any text) file; throws Error when it cannot.
+/// Writes an SVG (or any text) file atomically (core/files.hpp); throws Error when it cannot.
 void write_text_file(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace penumbra::plot

@@ -167,6 +167,15 @@ void require_supported_format(const std::filesystem::path& path, const std::stri
                  "with assimp export)");
 }
 
+/// The bytes assimp reads instead of the file (a rewritten document), with its format.
+struct ImportSource {
+  std::string_view bytes;
+  const char* format_hint;
+};
+
+Mesh import_mesh(const std::filesystem::path& path, const std::optional<MeshFileCounts>& counts,
+                 const std::optional<ImportSource>& source);
+
 }  // namespace
 
 Mesh load_mesh_file(const std::filesystem::path& path) {
@@ -186,6 +195,9 @@ Mesh load_mesh_file(const std::filesystem::path& path) {
       counts = validate_gltf(bytes, extension == ".glb");
     else
       counts = validate_mesh_file(bytes, extension);
+    if (extension == ".off")
+      if (std::optional<std::string> obj = off_polygons_as_obj(bytes))
+        return import_mesh(path, counts, ImportSource{*obj, "obj"});
   } catch (const Error& e) {
     if (std::string_view(e.what()).rfind("cannot load mesh", 0) == 0) throw;
     fail(path, e.what());
@@ -197,6 +209,13 @@ Mesh load_mesh_file(const std::filesystem::path& path) {
 
 Mesh import_mesh_file(const std::filesystem::path& path,
                       const std::optional<MeshFileCounts>& counts) {
+  return import_mesh(path, counts, std::nullopt);
+}
+
+namespace {
+
+Mesh import_mesh(const std::filesystem::path& path, const std::optional<MeshFileCounts>& counts,
+                 const std::optional<ImportSource>& source) {
   try {
     Assimp::Importer importer;
     // Drop point and line primitives entirely (SortByPType then leaves triangle meshes only).
@@ -204,7 +223,10 @@ Mesh import_mesh_file(const std::filesystem::path& path,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    const aiScene* scene =
+        source ? importer.ReadFileFromMemory(source->bytes.data(), source->bytes.size(), flags,
+                                             source->format_hint)
+               : importer.ReadFile(path.string(), flags);
     if (!scene) {
       std::string reason = importer.GetErrorString();
       if (reason.empty()) reason = "unknown assimp error";
@@ -234,5 +256,7 @@ Mesh import_mesh_file(const std::filesystem::path& path,
     fail(path, "unknown assimp failure");
   }
 }
+
+}  // namespace
 
 }  // namespace penumbra

@@ -131,7 +131,82 @@ bool next_body_line(std::string_view bytes, size_t& pos, std::string_view& line)
   return false;
 }
 
+/// The next line with tokens left once a '#' comment is cut, split at blanks (as the validation
+/// splits it); false at the end of the data.
+bool next_tokens(std::string_view bytes, size_t& pos, std::vector<std::string_view>& tokens) {
+  const auto is_space = [](char ch) {
+    return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\f' || ch == '\v';
+  };
+  std::string_view line;
+  while (next_line(bytes, pos, line)) {
+    if (const size_t hash = line.find('#'); hash != std::string_view::npos)
+      line = line.substr(0, hash);
+    tokens.clear();
+    for (size_t i = 0; i < line.size();) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      const size_t start = i;
+      while (i < line.size() && !is_space(line[i])) ++i;
+      if (i > start) tokens.push_back(line.substr(start, i - start));
+    }
+    if (!tokens.empty()) return true;
+  }
+  return false;
+}
+
+uint64_t to_count(std::string_view token) {
+  uint64_t value = 0;
+  for (char ch : token) value = value * 10 + static_cast<uint64_t>(ch - '0');
+  return value;
+}
+
+/// assimp's OFF importer reads faces of 1 to 9 indices.
+constexpr uint64_t kAssimpOffMaxFaceIndices = 9;
+
 }  // namespace
+
+std::optional<std::string> off_polygons_as_obj(std::string_view bytes) {
+  // The header as validate_off reads it: [ST][C][N][4][n]OFF, an optional dimension, the counts.
+  size_t pos = 0;
+  std::vector<std::string_view> t;
+  if (!next_tokens(bytes, pos, t)) return std::nullopt;
+  const std::string_view keyword = t[0];
+  std::vector<std::string_view> rest(t.begin() + 1, t.end());
+  if (keyword.find("nOFF") != std::string_view::npos) {
+    if (rest.empty() && !next_tokens(bytes, pos, rest)) return std::nullopt;
+    rest.erase(rest.begin());
+  }
+  if (rest.empty() && !next_tokens(bytes, pos, rest)) return std::nullopt;
+  if (rest.size() < 2) return std::nullopt;
+  const uint64_t nv = to_count(rest[0]), nf = to_count(rest[1]);
+
+  const size_t body = pos;  // first pass: is there a face assimp's OFF importer would drop?
+  for (uint64_t v = 0; v < nv; ++v)
+    if (!next_tokens(bytes, pos, t)) return std::nullopt;
+  bool long_face = false;
+  for (uint64_t f = 0; f < nf && !long_face; ++f) {
+    if (!next_tokens(bytes, pos, t)) return std::nullopt;
+    long_face = to_count(t[0]) > kAssimpOffMaxFaceIndices;
+  }
+  if (!long_face) return std::nullopt;
+
+  std::string obj;
+  obj.reserve(bytes.size() + 4 * (nv + nf));
+  pos = body;
+  for (uint64_t v = 0; v < nv; ++v) {
+    next_tokens(bytes, pos, t);
+    obj.append("v ").append(t[0]).append(" ").append(t[1]).append(" ").append(t[2]).append("\n");
+  }
+  for (uint64_t f = 0; f < nf; ++f) {
+    next_tokens(bytes, pos, t);
+    const uint64_t n = to_count(t[0]);
+    if (n < 3) continue;  // points and lines: dropped by the import either way
+    obj.append("f");
+    for (uint64_t k = 1; k <= n; ++k)  // OBJ counts vertices from 1
+      obj.append(" ").append(std::to_string(to_count(t[k]) + 1));
+    obj.append("\n");
+  }
+  return obj;
+}
 
 std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& name) {
   size_t pos = 0;

@@ -24,4 +24,12 @@ namespace penumbra {
 /// magnitude, not zero) that assimp's join tolerance could merge distinct floats.
 std::optional<Mesh> read_plain_off(std::string_view bytes, const std::string& name);
 
+/// Assimp's OFF importer reads at most 9 indices per face and drops longer polygons (a decagon
+/// loads as "no faces"); its OBJ importer triangulates n-gons of any size. For an OFF file
+/// already validated (validate_mesh_file) with a face of more than 9 indices: the same vertices
+/// (their first three coordinate tokens, as written) and faces as an OBJ document, for assimp's
+/// OBJ importer; std::nullopt when every face has at most 9 indices (assimp's OFF importer reads
+/// the file as it is).
+std::optional<std::string> off_polygons_as_obj(std::string_view bytes);
+
 }  // namespace penumbra

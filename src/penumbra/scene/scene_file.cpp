@@ -655,16 +655,26 @@ Scene load_scene_file(const fs::path& path) {
   }
 }
 
-Scene load_scene(std::string_view name_or_path, const ModelFraming& framing) {
-  if (is_builtin_scene(name_or_path)) return make_builtin_scene(name_or_path);
+void check_scene_name(std::string_view name_or_path) {
+  if (is_builtin_scene(name_or_path)) return;
   const fs::path path{std::string(name_or_path)};
   std::error_code ec;
-  if (fs::exists(path, ec))
-    return is_model_path(path) ? load_model_scene(path, framing) : load_scene_file(path);
+  if (fs::exists(path, ec)) {
+    const std::string what = is_model_path(path) ? "cannot load mesh" : "scene file";
+    require_regular_file(path, what);
+    return;
+  }
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
   throw Error("unknown scene " + quote(name_or_path, 200) + did_you_mean(name_or_path, names) +
               ": not a built-in scene (" + join(names) + ") nor an existing scene or model file");
+}
+
+Scene load_scene(std::string_view name_or_path, const ModelFraming& framing) {
+  if (is_builtin_scene(name_or_path)) return make_builtin_scene(name_or_path);
+  check_scene_name(name_or_path);
+  const fs::path path{std::string(name_or_path)};
+  return is_model_path(path) ? load_model_scene(path, framing) : load_scene_file(path);
 }
 
 }  // namespace penumbra

@@ -21,4 +21,9 @@ Scene load_scene_file(const std::filesystem::path& path);
 /// listing the built-in names when `name_or_path` is none of them.
 Scene load_scene(std::string_view name_or_path, const ModelFraming& framing = {});
 
+/// What load_scene checks before it reads anything: `name_or_path` is a built-in scene name or an
+/// existing regular file; throws load_scene's Error otherwise. For commands that take several
+/// scenes, so that a bad last one is reported before the first is rendered.
+void check_scene_name(std::string_view name_or_path);
+
 }  // namespace penumbra

@@ -1,11 +1,13 @@
 #include "penumbra/scene/scene_writer.hpp"
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 
@@ -67,26 +69,30 @@ void put(std::ofstream& f, const T& v) {
 /// Binary little-endian PLY: assimp reads its floats back bit for bit (a text format would go
 /// through assimp's approximate number parser).
 void write_ply(const fs::path& path, const Mesh& m) {
-  std::ofstream f(path, std::ios::binary);
-  const bool normals = m.normals.size() == m.positions.size();
-  const bool uvs = m.uvs.size() == m.positions.size();
-  f << "ply\nformat binary_little_endian 1.0\ncomment written by penumbra scene\n"
-    << "element vertex " << m.positions.size() << "\nproperty float x\nproperty float y\n"
-    << "property float z\n";
-  if (normals) f << "property float nx\nproperty float ny\nproperty float nz\n";
-  if (uvs) f << "property float s\nproperty float t\n";
-  f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n"
-    << "end_header\n";
-  for (size_t i = 0; i < m.positions.size(); ++i) {
-    put(f, m.positions[i].x), put(f, m.positions[i].y), put(f, m.positions[i].z);
-    if (normals) put(f, m.normals[i].x), put(f, m.normals[i].y), put(f, m.normals[i].z);
-    if (uvs) put(f, m.uvs[i].x), put(f, m.uvs[i].y);
-  }
-  for (const Triangle& t : m.triangles) {
-    put(f, static_cast<uint8_t>(3));
-    for (uint32_t v : t.v) put(f, v);
-  }
-  if (!f) throw Error("cannot write " + path.string());
+  write_file_atomically(path, [&](const fs::path& temporary) {
+    std::ofstream f(temporary, std::ios::binary);
+    const bool normals = m.normals.size() == m.positions.size();
+    const bool uvs = m.uvs.size() == m.positions.size();
+    f << "ply\nformat binary_little_endian 1.0\ncomment written by penumbra scene\n"
+      << "element vertex " << m.positions.size() << "\nproperty float x\nproperty float y\n"
+      << "property float z\n";
+    if (normals) f << "property float nx\nproperty float ny\nproperty float nz\n";
+    if (uvs) f << "property float s\nproperty float t\n";
+    f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n"
+      << "end_header\n";
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      put(f, m.positions[i].x), put(f, m.positions[i].y), put(f, m.positions[i].z);
+      if (normals) put(f, m.normals[i].x), put(f, m.normals[i].y), put(f, m.normals[i].z);
+      if (uvs) put(f, m.uvs[i].x), put(f, m.uvs[i].y);
+    }
+    for (const Triangle& t : m.triangles) {
+      put(f, static_cast<uint8_t>(3));
+      for (uint32_t v : t.v) put(f, v);
+    }
+    // Buffered bytes reach the file system here: a full disk fails before the rename.
+    f.close();
+    if (!f) throw Error("cannot write " + quote(path.string(), 200) + ": " + std::strerror(errno));
+  });
 }
 
 /// A texture as an 8-bit PNG: alpha masks as grey (the loader reads the first channel / 255),
@@ -204,9 +210,7 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
     j["lights"].push_back(jl);
   }
 
-  std::ofstream f(json_path);
-  f << j.dump(2) << "\n";
-  if (!f) throw Error("cannot write " + json_path.string());
+  write_text_file(json_path, j.dump(2) + "\n");
 }
 
 }  // namespace penumbra

@@ -15,6 +15,7 @@
 // second coordinate is the edge-depth / point-depth ratio scaled by the light radius.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "penumbra/core/image.hpp"
@@ -59,6 +60,11 @@ struct SilhouetteLayer {
   Image<float> depth;
   double half_band = 1.0;  // thick-silhouette half-width, texels
   size_t silhouette_faces = 0, corrected_faces = 0;
+  // Texels the silhouette pass evaluated (within a texel of a silhouette edge's half band, inside
+  // its face's scaled cover): the pass's cost, bounded by the silhouettes' length × band width.
+  uint64_t texels_visited = 0;
+  // Faces left out as exact repeats of an earlier face (same projection, same silhouette edges).
+  size_t duplicate_faces = 0;
 };
 
 SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthMap& map,
