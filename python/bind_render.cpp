@@ -45,7 +45,7 @@ struct PyResult {
     py::array_t<float> out({static_cast<py::ssize_t>(result.beauty.height()),
                             static_cast<py::ssize_t>(result.beauty.width()), py::ssize_t{3}});
     std::memcpy(out.mutable_data(), result.beauty.data(), result.beauty.size() * sizeof(Vec3));
-    return std::move(out);
+    return out;
   }
 
   /// H×W×words uint64 (L×H×W×words for several lights): bit s of word s // 64 set = light
@@ -65,7 +65,7 @@ struct PyResult {
       std::memcpy(dst, v.masks->pixel(0), per_light * sizeof(uint64_t));
       dst += per_light;
     }
-    return std::move(out);
+    return out;
   }
 
   py::array_t<bool> surface() const {

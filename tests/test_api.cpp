@@ -118,8 +118,8 @@ TEST(Lifecycle, OnlyRaytraceNeedsTheBvh) {
   scene.camera.width = 16;
   scene.camera.height = 16;
   const Frame frame(scene, LightSampleSpec{});
-  const ShadowContext ctx{scene,           nullptr, frame.gbuffer(), 0, scene.lights[0],
-                          frame.samples(), frame.receivers(0), false};
+  const ShadowContext ctx{scene,           nullptr,         frame.gbuffer(),    0,
+                          scene.lights[0], frame.samples(), frame.receivers(0), false};
   for (const char* name : {"exact", "gears", "shadow_volume", "pcss"}) {
     const MethodInfo& info = MethodRegistry::builtin().get(name);
     EXPECT_NO_THROW(info.create(resolve_options(info, {}))->compute(ctx)) << name;

@@ -44,7 +44,7 @@ def test_result_arrays(default_scene):
     s = r.stats
     assert s["method"] == "gears" and s["samples_per_pixel"] == 16
     assert s["times_ms"]["total"] > 0 and s["frame"]["gbuffer_ms"] > 0
-    assert s["options"]["lut"] == "false"
+    assert s["options"]["variant"] == "edge"
 
 
 @pytest.mark.parametrize("method", ["gears", "exact", "shadow_map"])
