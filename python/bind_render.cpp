@@ -110,7 +110,10 @@ RenderSettings settings_of(const std::string& method, const std::optional<py::tu
     if (size->size() != 2) throw Error("size: expected (width, height)");
     s.width = py::cast<int>((*size)[0]);
     s.height = py::cast<int>((*size)[1]);
-    if (s.width == 0 || s.height == 0) s.width = s.height = -1;  // rejected: 0 means "unset"
+    // RenderSettings reads 0 × 0 as "the camera's size"; here a size is always given.
+    if (s.width < 1 || s.height < 1)
+      throw Error("size: expected WxH with 1..16384 pixels each, got " + std::to_string(s.width) +
+                  "x" + std::to_string(s.height));
   }
   s.samples = samples;
   s.pattern = pattern;

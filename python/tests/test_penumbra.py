@@ -156,7 +156,9 @@ def test_methods_describe_their_options():
     (dict(method="gaers"), "unknown method 'gaers'"),
     (dict(options={"nope": 1}), "has no option 'nope'"),
     (dict(options={"grid": -3}), "outside"),
-    (dict(size=(0, 5)), "size: expected WxH"),
+    (dict(size=(0, 5)), "size: expected WxH with 1..16384 pixels each, got 0x5"),
+    (dict(size=(0, 0)), "got 0x0"),
+    (dict(size=(20000, 5)), "got 20000x5"),
     (dict(samples=0), "samples: expected K in 1..64"),
     (dict(pattern="zigzag"), "unknown light-sample pattern"),
     (dict(backend="metal"), "backend: expected cpu or vulkan"),
@@ -192,3 +194,19 @@ def test_render_releases_the_gil(default_scene):
     worker.join()
     # Held, the GIL would stop this loop for the whole render (≥ 100 ms); released, it spins.
     assert ticks > 10000
+
+
+def test_vulkan_backend_matches_the_cpu(default_scene):
+    try:
+        gpu = penumbra.render(default_scene, method="gears", size=(64, 48), samples=4,
+                              backend="vulkan")
+    except penumbra.Error as e:
+        if "ulkan" not in str(e):
+            raise
+        pytest.skip(f"no Vulkan device: {e}")
+    cpu = penumbra.render(default_scene, method="gears", size=(64, 48), samples=4)
+    # The GPU's rasterization may round a sample on an edge the other way (docs/gpu.md).
+    assert (gpu.masks != cpu.masks).mean() < 1e-3
+    assert np.abs(gpu.visibility - cpu.visibility).mean() < 1e-3
+    with pytest.raises(penumbra.Error, match="'exact' has no Vulkan implementation"):
+        penumbra.render(default_scene, method="exact", size=(8, 8), backend="vulkan")
