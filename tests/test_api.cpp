@@ -98,19 +98,37 @@ TEST(Lifecycle, PreparedMethodMatchesOneShotOnEveryLight) {
   LightSampleSpec spec;
   spec.k = 2;
   const Frame frame(scene, spec);
-  const MethodInfo& info = MethodRegistry::builtin().get("exact");
-  const MethodOptions options = resolve_options(info, {});
-  const MethodResult one_shot = frame.run(info, options, false);
-  EXPECT_GT(one_shot.prepare_ms, 0.0);
-  std::unique_ptr<ShadowMethod> method = info.create(options);
-  method->prepare(scene);
-  const MethodResult prepared = frame.run(info, *method, options, false);
-  const MethodResult again = frame.run(info, *method, options, false);
-  ASSERT_EQ(prepared.per_light.size(), 2u);
-  for (size_t l = 0; l < 2; ++l) {
-    EXPECT_TRUE(same_pixels(prepared.per_light[l].lit, one_shot.per_light[l].lit));
-    EXPECT_TRUE(same_pixels(again.per_light[l].lit, one_shot.per_light[l].lit));
+  // The methods whose prepare() does work, and one whose default does nothing.
+  for (const char* name : {"exact", "wedges", "wedge_blend", "dcs", "gears"}) {
+    SCOPED_TRACE(name);
+    const MethodInfo& info = MethodRegistry::builtin().get(name);
+    const MethodOptions options = resolve_options(info, {});
+    const MethodResult one_shot = frame.run(info, options, false);
+    std::unique_ptr<ShadowMethod> method = info.create(options);
+    method->prepare(scene);
+    const MethodResult prepared = frame.run(info, *method, options, false);
+    const MethodResult again = frame.run(info, *method, options, false);
+    ASSERT_EQ(prepared.per_light.size(), 2u);
+    for (size_t l = 0; l < 2; ++l) {
+      EXPECT_TRUE(same_pixels(prepared.per_light[l].lit, one_shot.per_light[l].lit));
+      EXPECT_TRUE(same_pixels(again.per_light[l].lit, one_shot.per_light[l].lit));
+    }
   }
+}
+
+TEST(Lifecycle, ExactReportsItsPreparationOnce) {
+  Scene scene = make_builtin_scene("default");
+  scene.lights.push_back(scene.lights[0]);
+  scene.camera.width = 16;
+  scene.camera.height = 12;
+  const Frame frame(scene, LightSampleSpec{});
+  const MethodInfo& info = MethodRegistry::builtin().get("exact");
+  const MethodResult r = frame.run(info, resolve_options(info, {}), false);
+  EXPECT_GT(r.prepare_ms, 0.0);
+  EXPECT_GE(r.total_ms, r.prepare_ms);
+  // Stage "bvh" of the first light holds the preparation; the second light's only its polygon.
+  EXPECT_GE(r.per_light[0].times.get("bvh"), r.prepare_ms);
+  EXPECT_LT(r.per_light[1].times.get("bvh"), r.prepare_ms);
 }
 
 TEST(Lifecycle, OnlyRaytraceNeedsTheBvh) {
