@@ -1,5 +1,6 @@
 #include "penumbra/api/geometry_hash.hpp"
 
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -9,9 +10,17 @@ namespace {
 
 class Fnv1a {
  public:
+  /// Eight bytes a step: each step (xor, then a multiplication by an odd number) is a bijection
+  /// of the state, so any one changed word always changes the hash.
   void bytes(const void* data, size_t size) {
     const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ull;
+    size_t i = 0;
+    for (; i + 8 <= size; i += 8) {
+      uint64_t word;
+      std::memcpy(&word, p + i, 8);
+      hash_ = (hash_ ^ word) * 0x100000001b3ull;
+    }
+    for (; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ull;
   }
   template <typename T>
   void value(const T& v) {

@@ -8,9 +8,9 @@
 
 namespace penumbra {
 
-/// 64-bit FNV-1a over the bytes of every mesh (positions, normals, uvs, triangles, material,
-/// roles), material and texture, and the scene's origin. Equal scenes give equal hashes; a change
-/// of any of those bytes changes it but for a 2⁻⁶⁴ chance.
+/// A 64-bit FNV-style hash, eight bytes a step, of every mesh (positions, normals, uvs, triangles,
+/// material, roles), material and texture, and the scene's origin. Equal scenes give equal
+/// hashes; a change of one word always changes it, of several but for a 2⁻⁶⁴ chance.
 uint64_t geometry_hash(const Scene& scene);
 
 }  // namespace penumbra
