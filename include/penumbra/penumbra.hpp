@@ -58,7 +58,7 @@ struct RenderResult {
   Image<Vec3> beauty;         // linear RGB, V × unshadowed irradiance (eq. 4.3) + ambient
   Image<uint8_t> surface;     // 1 = surface pixel, 0 = background (masked out of compare())
   int samples_per_pixel = 0;  // K×K
-  double method_ms = 0.0;     // the method's compute(), all lights
+  double method_ms = 0.0;     // the method's time, all lights, prepare_ms included (as `render`'s)
   double prepare_ms = 0.0;    // its prepare(), when this render ran it (0 when reused)
   /// The shared stages, milliseconds: embree_device_ms, bvh_build_ms (0 when the BVH was
   /// reused), gbuffer_ms, receivers_ms, irradiance_ms.

@@ -157,7 +157,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderSettings& settings
   MethodResult result = frame.run(bound, *it->second, options, settings.masks);
   out.method = result.method;
   out.options = result.options.values();
-  out.method_ms = result.total_ms;
+  out.method_ms = result.total_ms + out.prepare_ms;  // as Frame::run's one-shot total
   out.samples_per_pixel = frame.samples().count();
   out.frame_ms["gbuffer_ms"] = frame.gbuffer_ms();
   out.frame_ms["receivers_ms"] = frame.receivers_ms();
