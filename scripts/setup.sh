@@ -19,6 +19,8 @@ PACKAGES=(
   # `penumbra view`: GLFW + Dear ImGui (its static library carries the GLFW and OpenGL 3 back
   # ends); its tests run under Xvfb with Mesa's software OpenGL.
   libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri
+  # The Python module (docs/api.md), its tests and examples: for /usr/bin/python3.
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 missing=()

@@ -777,7 +777,7 @@ TEST(ExactFrame, QuadGroundPixelsMatchTheClosedForm) {
   LightSampleSpec spec;
   spec.k = 1;
   const LightSamples samples(spec);
-  const ShadowContext ctx{s, embree, g, 0, s.lights[0], samples, receivers, false};
+  const ShadowContext ctx{s, nullptr, g, 0, s.lights[0], samples, receivers, false};
   const std::unique_ptr<ShadowMethod> method = make_exact_method();
   const Visibility v = method->compute(ctx);
   int checked = 0, penumbra = 0;
@@ -814,7 +814,7 @@ Visibility run_exact_frame(Scene& s, int size) {
   LightSampleSpec spec;
   spec.k = 1;
   const LightSamples samples(spec);
-  const ShadowContext ctx{s, embree, g, 0, s.lights[0], samples, receivers, false};
+  const ShadowContext ctx{s, nullptr, g, 0, s.lights[0], samples, receivers, false};
   return make_exact_method()->compute(ctx);
 }
 

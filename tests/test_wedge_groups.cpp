@@ -85,8 +85,8 @@ Sums compare_groupings(Scene scene, int size) {
       test::make_test_frame(std::move(scene), size, size, test::centre_sample());
   const Scene& s = *t.scene;
   const Light& light = s.lights[0];
-  const ShadowContext ctx{s,     t.frame->embree(),  t.frame->gbuffer(),    0,
-                          light, t.frame->samples(), t.frame->receivers(0), false};
+  const ShadowContext ctx{
+      s, nullptr, t.frame->gbuffer(), 0, light, t.frame->samples(), t.frame->receivers(0), false};
   const Vec3 centre = hard_shadow_point(light);
   const Casters whole = whole_meshes(s);
   const Casters patches = make_casters(s, centre);

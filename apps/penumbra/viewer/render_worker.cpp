@@ -70,6 +70,22 @@ void RenderWorker::loop() {
   }
 }
 
+ShadowMethod& RenderWorker::prepared(const RenderJob& job, size_t m) const {
+  if (prepared_for_ != job.base) {
+    prepared_.clear();
+    prepared_for_ = job.base;
+  }
+  std::string key = job.methods[m]->name;
+  for (const auto& [option, value] : job.options[m].values()) key += "/" + option + "=" + value;
+  std::unique_ptr<ShadowMethod>& method = prepared_[key];
+  if (!method) {
+    std::unique_ptr<ShadowMethod> made = job.methods[m]->create(job.options[m]);
+    made->prepare(*job.base);
+    method = std::move(made);
+  }
+  return *method;
+}
+
 std::shared_ptr<RenderOutput> RenderWorker::run(const RenderJob& job) const {
   auto out = std::make_shared<RenderOutput>();
   out->job = job;
@@ -81,7 +97,8 @@ std::shared_ptr<RenderOutput> RenderWorker::run(const RenderJob& job) const {
     out->frame = std::make_unique<Frame>(*out->scene, job.samples, job.bvh->of(*job.base));
     out->frame_ms = elapsed_ms(start);
     for (size_t m = 0; m < job.methods.size(); ++m)
-      out->results.push_back(out->frame->run(*job.methods[m], job.options[m], false));
+      out->results.push_back(
+          out->frame->run(*job.methods[m], prepared(job, m), job.options[m], false));
     const auto shade_start = std::chrono::steady_clock::now();
     if (job.shade)
       for (const MethodResult& result : out->results) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -77,6 +78,12 @@ class RenderWorker {
   void loop();
   std::shared_ptr<RenderOutput> run(const RenderJob& job) const;
 
+  /// The job's methods, created and prepared (ShadowMethod::prepare) on `prepared_for_`, the base
+  /// scene whose meshes every edit keeps: a moved light or camera reuses them. Worker thread only.
+  ShadowMethod& prepared(const RenderJob& job, size_t m) const;
+
+  mutable std::shared_ptr<const Scene> prepared_for_;
+  mutable std::map<std::string, std::unique_ptr<ShadowMethod>> prepared_;  // by name and options
   std::function<void()> notify_;
   bool low_priority_;
   mutable std::mutex mutex_;

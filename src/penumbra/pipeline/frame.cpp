@@ -139,15 +139,26 @@ int Frame::irradiance_background_rows() const {
 
 MethodResult Frame::run(const MethodInfo& info, const MethodOptions& options,
                         bool want_masks) const {
+  const std::unique_ptr<ShadowMethod> method = info.create(options);
+  const auto start = std::chrono::steady_clock::now();
+  method->prepare(*scene_);
+  const double prepare_ms = elapsed_ms(start);
+  MethodResult result = run(info, *method, options, want_masks);
+  result.prepare_ms = prepare_ms;
+  result.total_ms += prepare_ms;
+  return result;
+}
+
+MethodResult Frame::run(const MethodInfo& info, ShadowMethod& method, const MethodOptions& options,
+                        bool want_masks) const {
   MethodResult result;
   result.method = info.name;
   result.options = options;
   for (size_t l = 0; l < scene_->lights.size(); ++l) {
-    const ShadowContext ctx{*scene_,           *embree_, gbuffer_,      static_cast<int>(l),
-                            scene_->lights[l], samples_, receivers_[l], want_masks};
-    std::unique_ptr<ShadowMethod> method = info.create(options);
+    const ShadowContext ctx{*scene_,           embree_.get(), gbuffer_,      static_cast<int>(l),
+                            scene_->lights[l], samples_,      receivers_[l], want_masks};
     const auto start = std::chrono::steady_clock::now();
-    Visibility vis = method->compute(ctx);
+    Visibility vis = method.compute(ctx);
     result.total_ms += elapsed_ms(start);
 
     if (vis.lit.width() != gbuffer_.width || vis.lit.height() != gbuffer_.height)

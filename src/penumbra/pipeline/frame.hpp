@@ -25,7 +25,8 @@ struct MethodResult {
   std::string method;
   MethodOptions options;
   std::vector<Visibility> per_light;
-  double total_ms = 0.0;  // all lights, method time only (not the shared G-buffer)
+  double total_ms = 0.0;  // all lights, method time only (not the shared G-buffer), with prepare_ms
+  double prepare_ms = 0.0;  // ShadowMethod::prepare, when this run called it
 };
 
 class Frame {
@@ -59,7 +60,12 @@ class Frame {
   /// Runs `info` with `options` on every light. Pixels the method need not compute are set here:
   /// background 1, back-facing 0. Throws Error if the method returns a wrongly sized image, and
   /// replaces any non-finite value by failing loudly (never a NaN pixel in an output).
+  /// A method created and prepared for this run alone (total_ms includes its prepare()).
   MethodResult run(const MethodInfo& info, const MethodOptions& options, bool want_masks) const;
+  /// The same with `method`, created from `info` and `options` and prepared before on a scene with
+  /// this frame's meshes and materials (a light or camera edit reuses it; total_ms is compute's).
+  MethodResult run(const MethodInfo& info, ShadowMethod& method, const MethodOptions& options,
+                   bool want_masks) const;
 
   /// The unshadowed irradiance of light `light` at every kActive pixel (0 elsewhere), at
   /// GBuffer::shadow_origin with the shading normal, in closed form (irradiance.hpp), computed on

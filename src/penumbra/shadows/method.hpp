@@ -27,7 +27,9 @@ inline constexpr double kShadowSegmentEnd = 1.0 - 1.0 / 65536.0;
 
 struct ShadowContext {
   const Scene& scene;
-  const EmbreeScene& embree;  // the scene's BVH (built once per frame)
+  /// The scene's Embree BVH, for the methods that trace rays through it (`raytrace`); others
+  /// never read it, and a caller with its own G-buffer may leave it null for them.
+  const EmbreeScene* embree;
   const GBuffer& gbuffer;
   int light_index = 0;
   const Light& light;
@@ -36,11 +38,19 @@ struct ShadowContext {
   bool want_masks = false;          // sample-exact methods also fill Visibility::masks
 };
 
+/// A method's lifecycle: created with its options, prepare() once per scene (what depends on the
+/// meshes and materials alone), then compute() any number of times, per frame and light (what
+/// depends on the camera, the lights and the samples). A light that moves or a camera that turns
+/// reuses everything prepared; a change of meshes or materials needs a new prepare().
 class ShadowMethod {
  public:
   virtual ~ShadowMethod() = default;
+  /// Scene-static work; `scene` outlives every compute() that follows. Default: nothing (the
+  /// method does all its work in compute()).
+  virtual void prepare(const Scene& scene) { (void)scene; }
   /// Visibility of ctx.light for every kActive pixel. Other pixels may hold anything: the frame
-  /// driver overwrites them (background 1, back-facing 0).
+  /// driver overwrites them (background 1, back-facing 0). ctx.scene has the meshes and materials
+  /// of the last prepare()'s scene (its lights and camera may differ).
   virtual Visibility compute(const ShadowContext& ctx) = 0;
 };
 

@@ -26,6 +26,7 @@ class Raytrace final : public ShadowMethod {
       : packets_(options.get_choice("path") == "packet16") {}
 
   Visibility compute(const ShadowContext& ctx) override {
+    if (!ctx.embree) throw Error("method 'raytrace' needs the scene's Embree BVH");
     const GBuffer& g = ctx.gbuffer;
     const int n = ctx.samples.count();
     // A point light has one position: trace one ray per pixel and copy its answer to every sample.
@@ -74,7 +75,7 @@ class Raytrace final : public ShadowMethod {
     vis.counters["rays"] = static_cast<double>(rays.load());
     vis.counters["rays_per_second"] =
         ms > 0.0 ? static_cast<double>(rays.load()) / (ms * 1e-3) : 0.0;
-    vis.counters["bvh_build_ms"] = ctx.embree.build_ms();
+    vis.counters["bvh_build_ms"] = ctx.embree->build_ms();
     return vis;
   }
 
@@ -109,7 +110,7 @@ class Raytrace final : public ShadowMethod {
           scratch.reset(static_cast<unsigned>(l));
           traced += valid[l] != 0;
         }
-        rtcOccluded16(valid, ctx.embree.handle(), &occ.rtc, &ray);
+        rtcOccluded16(valid, ctx.embree->handle(), &occ.rtc, &ray);
         for (int l = 0; l < lanes; ++l)
           sample_vis[base + l] =
               valid[l] == 0 ? 0.0f : (ray.tfar[l] < 0.0f ? 0.0f : scratch.transmittance(l));
@@ -131,7 +132,7 @@ class Raytrace final : public ShadowMethod {
           ray.mask = EmbreeScene::kMaskCaster;
           ray.id = static_cast<unsigned>(l);
           scratch.reset(static_cast<unsigned>(l));
-          rtcOccluded1(ctx.embree.handle(), &occ.rtc, &ray);
+          rtcOccluded1(ctx.embree->handle(), &occ.rtc, &ray);
           sample_vis[s] = ray.tfar < 0.0f ? 0.0f : scratch.transmittance(l);
           ++traced;
         }

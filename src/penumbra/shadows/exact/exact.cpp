@@ -2,7 +2,9 @@
 #include "penumbra/shadows/exact/exact.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
@@ -562,15 +564,26 @@ class ExactMethod final : public ShadowMethod {
  public:
   explicit ExactMethod(const ExactOptions& options) : options_(options) {}
 
+  /// The occluders, their BVH and the closed solids' inner balls depend on the meshes alone.
+  void prepare(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    prepared_ =
+        std::make_unique<const ExactScene>(scene, options_.leaf_size, options_.cull_back_faces);
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     const GBuffer& g = ctx.gbuffer;
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
 
-    ScopedStage bvh_stage(vis.times, "bvh");
-    const ExactScene scene(ctx.scene, options_.leaf_size, options_.cull_back_faces);
+    if (!prepared_) prepare(ctx.scene);  // a caller that skipped prepare()
+    const auto light_start = std::chrono::steady_clock::now();
+    const ExactScene& scene = *prepared_;
     const ExactLight light(ctx.scene, ctx.light, options_.disk_segments);
-    bvh_stage.stop();
+    // Stage "bvh": the light's polygon, plus the preparation for the first light after it.
+    vis.times.add("bvh", unreported_prepare_ms_ + elapsed_ms(light_start));
+    unreported_prepare_ms_ = 0.0;
     if (light.textured()) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
 
     // Per-row statistics, summed in row order afterwards: the counters never depend on threads.
@@ -651,6 +664,8 @@ class ExactMethod final : public ShadowMethod {
 
  private:
   ExactOptions options_;
+  std::unique_ptr<const ExactScene> prepared_;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace

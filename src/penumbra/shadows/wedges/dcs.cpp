@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "penumbra/core/parallel.hpp"
@@ -358,7 +359,8 @@ constexpr int kBlock = 4;
 
 }  // namespace
 
-Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
+Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options,
+                          const wedge_pass::CasterMeshes* prepared) {
   const GBuffer& g = ctx.gbuffer;
   const Light& light = ctx.light;
   Visibility out;
@@ -370,7 +372,7 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options) {
   // the casters' adjacency; the layer classes by transmittance (§4.3.3).
   auto start = std::chrono::steady_clock::now();
   const PixelSetup setup = pixel_setup(ctx);
-  CasterMeshes casters = caster_meshes(ctx.scene);
+  CasterMeshes casters = prepared ? *prepared : caster_meshes(ctx.scene);
   // Forest 2008 §5.3 Algorithm 12 lines 5–6: the perforated triangles leave the opaque machinery.
   stsv::Perforated perforated;
   if (options.alpha_stsv) perforated = stsv::take_perforated(ctx.scene, casters);
@@ -548,10 +550,23 @@ namespace {
 class Dcs final : public ShadowMethod {
  public:
   explicit Dcs(DcsOptions options) : options_(options) {}
-  Visibility compute(const ShadowContext& ctx) override { return dcs_visibility(ctx, options_); }
+  /// The casters' adjacency (edges, re-oriented and de-duplicated meshes) is scene-static.
+  void prepare(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    casters_ = std::make_unique<const CasterMeshes>(caster_meshes(scene));
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+  Visibility compute(const ShadowContext& ctx) override {
+    Visibility v = dcs_visibility(ctx, options_, casters_.get());
+    // The adjacency's time, once, in the stage that built it when it was built per light.
+    v.times.add("setup", std::exchange(unreported_prepare_ms_, 0.0));
+    return v;
+  }
 
  private:
   DcsOptions options_;
+  std::unique_ptr<const CasterMeshes> casters_;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace

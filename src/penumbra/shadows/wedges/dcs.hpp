@@ -49,6 +49,9 @@ struct DcsOptions {
 
 /// Visibility (lit, lit_rgb for a textured light, masks when ctx.want_masks), stage times and
 /// counters of `dcs` for ctx.light.
-Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options);
+/// `prepared`: the casters' adjacency from the method's prepare() (wedge_pass::caster_meshes of a
+/// scene with ctx.scene's meshes); built here when null.
+Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options,
+                          const wedge_pass::CasterMeshes* prepared = nullptr);
 
 }  // namespace penumbra

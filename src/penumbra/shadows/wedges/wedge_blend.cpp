@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "penumbra/core/stats.hpp"
@@ -194,7 +195,7 @@ void blend_part(const SvPart& s, VPart& v, int q, const LightMeasure& m, WedgeBl
 
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
                                     WedgeConstruction construction, Image<Vec3>* lit_rgb,
-                                    bool alpha_stsv) {
+                                    bool alpha_stsv, const wedge_pass::CasterMeshes* prepared) {
   WedgeBlendStats st;
   WedgeStats& ws = st.wedges;
   const GBuffer& g = ctx.gbuffer;
@@ -214,7 +215,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   // Silhouette loops from the light centre, grouped per light-facing patch (Algorithm 4
   // line 1, wedges/pass.hpp).
   auto start = std::chrono::steady_clock::now();
-  CasterMeshes caster_set = caster_meshes(ctx.scene);
+  CasterMeshes caster_set = prepared ? *prepared : caster_meshes(ctx.scene);
   // Forest 2008 Algorithm 12 lines 5–6: perforated triangles leave the wedges for the STSV pass.
   stsv::Perforated perforated;
   if (alpha_stsv) perforated = stsv::take_perforated(ctx.scene, caster_set);
@@ -346,11 +347,20 @@ class WedgeBlend final : public ShadowMethod {
   WedgeBlend(WedgeConstruction construction, bool alpha_stsv)
       : construction_(construction), alpha_stsv_(alpha_stsv) {}
 
+  /// The casters' adjacency (edges, re-oriented and de-duplicated meshes) is scene-static.
+  void prepare(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    casters_ = std::make_unique<const CasterMeshes>(caster_meshes(scene));
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     WedgeBlendStats st;
     Visibility v;
     Image<Vec3> rgb;
-    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb, alpha_stsv_);
+    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb, alpha_stsv_, casters_.get());
+    // The adjacency's time, once, in the stage that built it when it was built per light.
+    st.wedges.silhouettes_ms += std::exchange(unreported_prepare_ms_, 0.0);
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     report_wedge_stats(st.wedges, "pass2_blend", v);
     v.counters["groups"] = static_cast<double>(st.groups);
@@ -362,6 +372,8 @@ class WedgeBlend final : public ShadowMethod {
  private:
   WedgeConstruction construction_;
   bool alpha_stsv_;
+  std::unique_ptr<const CasterMeshes> casters_;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace

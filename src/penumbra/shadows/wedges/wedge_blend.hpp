@@ -37,8 +37,11 @@ struct WedgeBlendStats {
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for other
 /// lights) and V = its Rec. 709 luminance ratio, as `wedges`.
+/// `prepared`: the casters' adjacency from the method's prepare() (wedge_pass::caster_meshes of a
+/// scene with ctx.scene's meshes); built here when null.
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr,
                                     WedgeConstruction construction = WedgeConstruction::paper,
-                                    Image<Vec3>* lit_rgb = nullptr, bool alpha_stsv = true);
+                                    Image<Vec3>* lit_rgb = nullptr, bool alpha_stsv = true,
+                                    const wedge_pass::CasterMeshes* prepared = nullptr);
 
 }  // namespace penumbra

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "penumbra/core/stats.hpp"
@@ -238,11 +239,12 @@ Image<float> textured_visibility(const ShadowContext& ctx, const FrameShared& sh
 }  // namespace
 
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options_in,
-                              WedgeStats* stats_out, Image<Vec3>* lit_rgb) {
+                              WedgeStats* stats_out, Image<Vec3>* lit_rgb,
+                              const wedge_pass::CasterMeshes* prepared) {
   WedgeStats st;
   WedgeOptions options = options_in;
   const auto start = std::chrono::steady_clock::now();
-  FrameShared shared{pixel_setup(ctx), caster_meshes(ctx.scene)};
+  FrameShared shared{pixel_setup(ctx), prepared ? *prepared : caster_meshes(ctx.scene)};
   // Forest 2008 Algorithm 12 lines 5–6: perforated triangles leave the wedges for the STSV pass.
   stsv::Perforated perforated;
   if (options.alpha_stsv) perforated = stsv::take_perforated(ctx.scene, shared.casters);
@@ -283,11 +285,20 @@ class Wedges final : public ShadowMethod {
       options_.table = std::make_shared<const CoverageTexture>(options_.texture_n);
   }
 
+  /// The casters' adjacency (edges, re-oriented and de-duplicated meshes) is scene-static.
+  void prepare(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    casters_ = std::make_unique<const CasterMeshes>(caster_meshes(scene));
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     WedgeStats st;
     Visibility v;
     Image<Vec3> rgb;
-    v.lit = wedge_visibility(ctx, options_, &st, &rgb);
+    v.lit = wedge_visibility(ctx, options_, &st, &rgb, casters_.get());
+    // The adjacency's time, once, in the stage that built it when it was built per light.
+    st.silhouettes_ms += std::exchange(unreported_prepare_ms_, 0.0);
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     report_wedge_stats(st, "pass2", v);
     v.counters["sub_lights"] = static_cast<double>(st.sub_lights);
@@ -296,6 +307,8 @@ class Wedges final : public ShadowMethod {
 
  private:
   WedgeOptions options_;
+  std::unique_ptr<const CasterMeshes> casters_;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace

@@ -83,7 +83,10 @@ WedgeConstruction wedge_construction_of(const MethodOptions& options);
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for
 /// other lights) and V = its Rec. 709 luminance ratio; with `split`, each sub-light carries its
 /// own part of the texture and the sub-lights are weighted by their emitted power per channel.
+/// `prepared`: the casters' adjacency from the method's prepare() (wedge_pass::caster_meshes of a
+/// scene with ctx.scene's meshes); built here when null.
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options,
-                              WedgeStats* stats = nullptr, Image<Vec3>* lit_rgb = nullptr);
+                              WedgeStats* stats = nullptr, Image<Vec3>* lit_rgb = nullptr,
+                              const wedge_pass::CasterMeshes* prepared = nullptr);
 
 }  // namespace penumbra
