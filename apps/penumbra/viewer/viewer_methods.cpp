@@ -15,6 +15,10 @@ class LockedMethod final : public ShadowMethod {
  public:
   LockedMethod(std::unique_ptr<ShadowMethod> inner, std::shared_ptr<std::mutex> lock)
       : inner_(std::move(inner)), lock_(std::move(lock)) {}
+  void prepare(const Scene& scene) override {
+    const std::lock_guard<std::mutex> hold(*lock_);
+    inner_->prepare(scene);
+  }
   Visibility compute(const ShadowContext& ctx) override {
     const std::lock_guard<std::mutex> hold(*lock_);
     return inner_->compute(ctx);
