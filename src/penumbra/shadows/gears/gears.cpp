@@ -66,11 +66,24 @@ class Gears final : public ShadowMethod {
  public:
   explicit Gears(const Options& o) : opt_(o) {}
 
+  /// The closed components of the scene's opaque meshes (the solid cull's scene-static part).
+  void prepare(const Scene& scene) override {
+    if (!opt_.solid_cull) return;
+    const auto start = std::chrono::steady_clock::now();
+    components_ = find_closed_components(scene);
+    prepared_ = true;
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     const GBuffer& g = ctx.gbuffer;
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
     if (ctx.light.is_textured()) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    if (opt_.solid_cull && !prepared_) prepare(ctx.scene);  // a caller that skipped prepare()
+    // The preparation's time, in the first frame after it.
+    if (opt_.solid_cull) vis.times.add("find_closed_components", unreported_prepare_ms_);
+    unreported_prepare_ms_ = 0.0;
 
     // Steps 2/3.2 prologue: the pixel samples and the occluders in light space.
     ScopedStage setup_stage(vis.times, "light_space_setup");
@@ -84,7 +97,7 @@ class Gears final : public ShadowMethod {
     if (opt_.solid_cull)
       solids_task.run([&] {
         const auto start = std::chrono::steady_clock::now();
-        solids = find_solids(ctx.scene, setup.soup);
+        solids = find_solids(components_, setup.soup);
         solids_ms = elapsed_ms(start);
       });
     bool solids_ready = !opt_.solid_cull;
@@ -288,6 +301,9 @@ class Gears final : public ShadowMethod {
   }
 
   Options opt_;
+  SolidComponents components_;
+  bool prepared_ = false;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace

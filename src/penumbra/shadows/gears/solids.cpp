@@ -18,19 +18,24 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
 
 }  // namespace
 
-Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
-  Solids out;
-  const size_t n = soup.size();
-  out.of_triangle.assign(n, kNoSolid);
-  // Welded vertex ids: per mesh, the first vertex at each position (scene/weld.hpp).
-  // build_mesh_edges is not used: its edge sort takes longer than this whole function on 50–90 k
-  // triangles, and it runs per light and frame.
+SolidComponents find_closed_components(const Scene& scene) {
+  // The soup's numbering, from the scene alone: mesh and triangle of each, and whether it counts.
+  std::vector<uint32_t> mesh_of, prim_of;
+  std::vector<uint8_t> usable;
   std::vector<std::vector<uint32_t>> weld(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    if (!mesh.casts_shadows || !scene.material_of(mesh).is_opaque()) continue;
-    weld[m] = weld_positions(mesh.positions);
+    if (!mesh.casts_shadows) continue;
+    const bool opaque = scene.material_of(mesh).is_opaque();
+    // Welded vertex ids: per mesh, the first vertex at each position (scene/weld.hpp).
+    if (opaque) weld[m] = weld_positions(mesh.positions);
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      mesh_of.push_back(static_cast<uint32_t>(m));
+      prim_of.push_back(static_cast<uint32_t>(t));
+      usable.push_back(opaque && !weld[m].empty());
+    }
   }
+  const size_t n = mesh_of.size();
   // Components: triangles joined by shared welded vertices (union-find over vertex ids, offset per
   // mesh), then the directed-edge balance of each.
   std::vector<uint32_t> vertex_base(scene.meshes.size() + 1, 0);
@@ -39,11 +44,11 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   std::vector<uint32_t> parent(vertex_base.back());
   std::iota(parent.begin(), parent.end(), 0u);
   auto vertex_id = [&](size_t t, int c) {
-    const uint32_t m = soup.mesh[t];
-    return vertex_base[m] + weld[m][scene.meshes[m].triangles[soup.prim[t]].v[c]];
+    const uint32_t m = mesh_of[t];
+    return vertex_base[m] + weld[m][scene.meshes[m].triangles[prim_of[t]].v[c]];
   };
   for (size_t t = 0; t < n; ++t) {
-    if (!soup.opaque[t] || weld[soup.mesh[t]].empty()) continue;
+    if (!usable[t]) continue;
     const uint32_t a = find_root(parent, vertex_id(t, 0));
     for (int c = 1; c < 3; ++c) {
       const uint32_t b = find_root(parent, vertex_id(t, c));
@@ -54,7 +59,7 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   std::vector<uint32_t> root_of(n, kNoSolid);
   std::vector<std::array<uint32_t, 3>> ids(n);
   for (size_t t = 0; t < n; ++t) {
-    if (!soup.opaque[t] || weld[soup.mesh[t]].empty()) continue;
+    if (!usable[t]) continue;
     ids[t] = {vertex_id(t, 0), vertex_id(t, 1), vertex_id(t, 2)};
     root_of[t] = find_root(parent, ids[t][0]);
   }
@@ -95,37 +100,58 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
   std::vector<uint8_t> open(nv, 0);
   for (uint32_t v = 0; v < nv; ++v)
     if (unbalanced[v]) open[find_root(parent, v)] = 1;
-  // Closed components by size; each with its light-space box.
-  std::vector<uint32_t> size(parent.size(), 0);
-  std::vector<Vec3> lo(parent.size(), Vec3(kInfinity)), hi(parent.size(), Vec3(-kInfinity));
+  // The closed components, numbered in the order of their roots.
+  std::vector<uint32_t> triangles(nv, 0);
+  for (size_t t = 0; t < n; ++t)
+    if (root_of[t] != kNoSolid && !open[root_of[t]]) ++triangles[root_of[t]];
+  SolidComponents out;
+  std::vector<uint32_t> id_of_root(nv, kNoSolid);
+  for (uint32_t r = 0; r < nv; ++r)
+    if (triangles[r] > 0) {
+      id_of_root[r] = static_cast<uint32_t>(out.size.size());
+      out.size.push_back(triangles[r]);
+    }
+  out.of_triangle.assign(n, kNoSolid);
+  for (size_t t = 0; t < n; ++t)
+    if (root_of[t] != kNoSolid) out.of_triangle[t] = id_of_root[root_of[t]];
+  return out;
+}
+
+Solids find_solids(const SolidComponents& components, const TriangleSoup& soup) {
+  Solids out;
+  const size_t n = soup.size();
+  out.of_triangle.assign(n, kNoSolid);
+  if (components.of_triangle.size() != n) return out;  // not this scene's: no solid
+  // Each closed component's light-space box.
+  const size_t count = components.size.size();
+  std::vector<Vec3> lo(count, Vec3(kInfinity)), hi(count, Vec3(-kInfinity));
   for (size_t t = 0; t < n; ++t) {
-    const uint32_t r = root_of[t];
-    if (r == kNoSolid || open[r]) continue;
-    ++size[r];
+    const uint32_t r = components.of_triangle[t];
+    if (r == kNoSolid) continue;
     for (int c = 0; c < 3; ++c) {
       const Vec3 q(soup.x[c][t], soup.y[c][t], soup.z[c][t]);
       lo[r] = glm::min(lo[r], q), hi[r] = glm::max(hi[r], q);
     }
   }
   std::vector<uint32_t> roots;
-  for (uint32_t r = 0; r < parent.size(); ++r)
-    if (size[r] > 0) {
-      const Vec3 margin = 1e-4f * (hi[r] - lo[r]) +
-                          1e-4f * glm::max(glm::abs(lo[r]), glm::abs(hi[r])) + Vec3(1e-6f);
-      lo[r] -= margin, hi[r] += margin;
-      if (lo[r].z > 0.0f || hi[r].z < 0.0f) roots.push_back(r);  // the light is outside
-    }
+  for (uint32_t r = 0; r < count; ++r) {
+    const Vec3 margin =
+        1e-4f * (hi[r] - lo[r]) + 1e-4f * glm::max(glm::abs(lo[r]), glm::abs(hi[r])) + Vec3(1e-6f);
+    lo[r] -= margin, hi[r] += margin;
+    if (lo[r].z > 0.0f || hi[r].z < 0.0f) roots.push_back(r);  // the light is outside
+  }
   std::stable_sort(roots.begin(), roots.end(),
-                   [&](uint32_t a, uint32_t b) { return size[a] > size[b]; });
+                   [&](uint32_t a, uint32_t b) { return components.size[a] > components.size[b]; });
   if (roots.size() > kMaxSolids) roots.resize(kMaxSolids);
-  std::vector<uint32_t> solid_of_root(parent.size(), kNoSolid);
+  std::vector<uint32_t> solid_of(count, kNoSolid);
   for (uint32_t s = 0; s < roots.size(); ++s) {
-    solid_of_root[roots[s]] = s;
+    solid_of[roots[s]] = s;
     out.lo.push_back(lo[roots[s]]);
     out.hi.push_back(hi[roots[s]]);
   }
   for (size_t t = 0; t < n; ++t)
-    if (root_of[t] != kNoSolid) out.of_triangle[t] = solid_of_root[root_of[t]];
+    if (components.of_triangle[t] != kNoSolid)
+      out.of_triangle[t] = solid_of[components.of_triangle[t]];
   // Depth maps: each face's xy box (widened past the cell rounding) over the cells it meets.
   constexpr int N = Solids::kMapSize;
   out.deepest.assign(roots.size() * N * N, -kInfinity);
@@ -145,6 +171,10 @@ Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
       for (int i = c0 % N; i <= c1 % N; ++i) map[j * N + i] = std::max(map[j * N + i], z);
   }
   return out;
+}
+
+Solids find_solids(const Scene& scene, const TriangleSoup& soup) {
+  return find_solids(find_closed_components(scene), soup);
 }
 
 }  // namespace penumbra::gears

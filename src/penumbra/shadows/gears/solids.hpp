@@ -54,9 +54,22 @@ struct Solids {
   }
 };
 
-/// The closed components of the soup's opaque meshes (vertices welded by bit-identical world
-/// position), the kMaxSolids largest, whose boxes lie on one side of the light plane (every light
-/// point outside them). Boxes are widened by 10⁻⁴ of their extent and magnitude.
+/// The closed components of a scene's opaque shadow-casting meshes (vertices welded by
+/// bit-identical world position): what depends on the meshes alone, found once per scene (the
+/// method's prepare). Triangles are numbered as in TriangleSoup: the shadow-casting meshes in
+/// order, each one's triangles in order.
+struct SolidComponents {
+  std::vector<uint32_t> of_triangle;  // per triangle: its closed component, or kNoSolid
+  std::vector<uint32_t> size;         // per closed component: its triangles
+};
+
+SolidComponents find_closed_components(const Scene& scene);
+
+/// The kMaxSolids largest closed components whose light-space boxes lie on one side of the light
+/// plane (every light point outside them), with their boxes (widened by 10⁻⁴ of their extent and
+/// magnitude) and depth maps, in the light space of `soup` (built from the same scene).
+Solids find_solids(const SolidComponents& components, const TriangleSoup& soup);
+/// The same, the components found first.
 Solids find_solids(const Scene& scene, const TriangleSoup& soup);
 
 }  // namespace penumbra::gears
