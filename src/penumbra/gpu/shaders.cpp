@@ -71,6 +71,15 @@ const uint32_t kVolumeVert[] = {
 const uint32_t kVolumeFrag[] = {
 #include "volume.frag.inc"
 };
+const uint32_t kDcsInit[] = {
+#include "dcs_init.comp.inc"
+};
+const uint32_t kDcsEdges[] = {
+#include "dcs_edges.comp.inc"
+};
+const uint32_t kDcsFinish[] = {
+#include "dcs_finish.comp.inc"
+};
 
 }  // namespace
 
@@ -120,6 +129,12 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kVolumeVert;
     case Shader::volume_frag:
       return kVolumeFrag;
+    case Shader::dcs_init:
+      return kDcsInit;
+    case Shader::dcs_edges:
+      return kDcsEdges;
+    case Shader::dcs_finish:
+      return kDcsFinish;
     case Shader::count_:
       break;
   }

@@ -32,6 +32,9 @@ enum class Shader {
   volume_setup,
   volume_vert,
   volume_frag,
+  dcs_init,
+  dcs_edges,
+  dcs_finish,
   count_
 };
 

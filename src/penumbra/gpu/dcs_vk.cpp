@@ -1,0 +1,339 @@
+// `dcs` on Vulkan: depth complexity sampling [Forest 2008 ch. 4] with the per-receiver work in
+// compute shaders, on the frame's G-buffer and light samples:
+//   host:  the CPU method's own setup (wedges/dcs_frame.hpp: layer classes, silhouette edges
+//          w.r.t. the whole light and their face planes, centre counts, wedges binned to 16×16
+//          tiles) and each pixel's light projection (wedges/pass.hpp PixelLight);
+//   GPU:   counters := centre counts (dcs_init), per pixel the wedges of its tile's bin — weight,
+//          wedge test, clipped projected edge, covered region, signed counter steps (dcs_edges,
+//          in chunks of the bins), then the CPU's three outcomes per pixel and V (dcs_finish);
+//   host:  masks and V read back; a textured light's weighting from the per-sample visibility.
+// Each step is the CPU's arithmetic (double where the CPU uses double, `precise`), so the masks
+// are the CPU dcs's, hence `raytrace`'s.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "penumbra/core/error.hpp"
+#include "penumbra/gpu/backend.hpp"
+#include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/light_weights.hpp"
+#include "penumbra/shadows/wedges/dcs_counters.hpp"
+#include "penumbra/shadows/wedges/dcs_frame.hpp"
+#include "penumbra/shadows/wedges/wedges.hpp"
+
+namespace penumbra::gpu {
+
+namespace {
+
+using dcs::Frame;
+
+// shaders/dcs.glsl layouts (scalar).
+struct WedgeGpu {
+  double planes[kMaxWedgePlanes][4];
+  double e0[3], e1[3];
+  double tolerance;
+  int32_t plane_count;
+  uint32_t edge;
+};
+static_assert(sizeof(WedgeGpu) == 576);
+struct EdgeGpu {
+  int32_t centre_multiplicity;
+  uint32_t face_begin, face_count, layer_class;
+};
+struct FaceGpu {
+  double n[3];
+  double d;
+  int32_t sign, pad;
+};
+static_assert(sizeof(FaceGpu) == 40);
+struct PixelGpu {
+  double p[3], to_u[3], to_v[3], to_w[3];
+  uint32_t tile, flags;
+};
+static_assert(sizeof(PixelGpu) == 104);
+constexpr uint32_t kValid = 1, kRound = 2, kTauNeg = 4;
+
+struct InitPush {
+  VkDeviceAddress centre, counters;
+  uint32_t na, n, total;
+};
+struct EdgesPush {
+  VkDeviceAddress pix, wedges, edges, faces, bin_begin, bin_entries, samples, band_begin, counters,
+      state;
+  uint32_t na, n, k, first, chunk;
+};
+struct FinishPush {
+  VkDeviceAddress centre, state, counters, attenuation, emit_index, lit, masks, sample_vis;
+  uint32_t na, n, classes, table, paper, words, want_vis;
+};
+static_assert(sizeof(EdgesPush) <= kPushBytes && sizeof(FinishPush) <= kPushBytes);
+
+void put3(double* out, const DVec3& v) {
+  out[0] = v.x, out[1] = v.y, out[2] = v.z;
+}
+
+/// Bin entries one dispatch of dcs_edges walks per pixel. llvmpipe stops any invocation after
+/// 65535 loop iterations in all (its guard against endless loops): an entry costs up to ~20 (faces
+/// and planes) plus one per sample of its band range. Other devices walk the whole bin at once.
+uint32_t bin_chunk(const VulkanContext& vk, int samples) {
+  if (vk.info().type != "cpu") return UINT32_MAX / 2;
+  return std::max<uint32_t>(1, 60000u / static_cast<uint32_t>(samples + 32));
+}
+
+class DcsVk final : public ShadowMethod {
+ public:
+  DcsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
+    options_.silhouettes = o.get_choice("silhouettes") == "centre" ? dcs::SilhouetteMode::centre
+                                                                   : dcs::SilhouetteMode::light;
+    options_.construction = wedge_construction_of(o);
+    options_.semi_opaque =
+        o.get_choice("semi_opaque") == "paper" ? DcsSemiOpaque::paper : DcsSemiOpaque::exact;
+    options_.alpha_stsv = stsv::uses_stsv(o);
+  }
+
+  Visibility compute(const ShadowContext& ctx) override {
+    VulkanContext& vk = backend_.context();
+    if (!vk.has_float64())
+      throw Error("dcs on vulkan needs shaderFloat64, which " + vk.device_name() + " lacks");
+    if (ctx.samples.per_pixel())
+      throw Error("dcs on vulkan: per-pixel sample patterns are not supported (use --backend cpu)");
+    const GBuffer& g = ctx.gbuffer;
+    const Light& light = ctx.light;
+    const int n = ctx.samples.count();
+    Visibility out;
+    out.lit = Image<float>(g.width, g.height, 1.0f);
+    if (light.is_textured()) out.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    if (ctx.want_masks) out.masks = SampleMasks(g.width, g.height, n);
+
+    double stsv_ms = 0.0;
+    const Frame fr = dcs::prepare_frame(ctx, options_, out, stsv_ms);
+    if (!fr.stsv.empty())
+      throw Error(
+          "dcs on vulkan: alpha-textured casters need dcs.alpha=opaque (soft textured shadow "
+          "volumes are not on the GPU yet; use --backend cpu)");
+
+    auto t0 = std::chrono::steady_clock::now();
+    // The samples sorted into bands of v, as the CPU's Sampler sorts them.
+    const bool round = light.shape == LightShape::disk || light.shape == LightShape::sphere;
+    dcs::SampleSet ss;
+    ss.assign(ctx.samples.shared_samples(), ctx.samples.k(), [&](const Vec2& uv) {
+      if (!round) return true;
+      const Vec2 d = uv - Vec2(0.5f);
+      return glm::dot(d, d) <= 0.25f;
+    });
+    std::vector<float> sample_uv;
+    std::vector<uint32_t> emit_index(n);
+    for (int s = 0; s < n; ++s) {
+      sample_uv.insert(sample_uv.end(), {ss.u[s], ss.v[s]});
+      emit_index[s] = (ss.emit[s] ? 0x10000u : 0u) | ss.index[s];
+    }
+    const std::vector<int32_t> band_begin(ss.band_begin.begin(), ss.band_begin.end());
+
+    // Active pixels and their light projections (PixelLight, as the CPU's pass computes them).
+    std::vector<uint32_t> active;
+    for (size_t i = 0; i < g.pixel_count(); ++i)
+      if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
+    const uint32_t na = static_cast<uint32_t>(active.size());
+    const int tiles_x = fr.area ? fr.bw.tiles_x : 1;
+    const bool per_pixel_frame = frame_depends_on_receiver(light);
+    const LightFrame fixed_frame = light_frame(light, light.center);
+    std::vector<PixelGpu> pixels(na);
+    for (uint32_t a = 0; a < na; ++a) {
+      const uint32_t i = active[a];
+      const int x = static_cast<int>(i % g.width), y = static_cast<int>(i / g.width);
+      PixelGpu& px = pixels[a];
+      px = {};
+      put3(px.p, DVec3(g.shadow_origin(i)));
+      if (!fr.area) continue;
+      px.tile = static_cast<uint32_t>((y / wedge_pass::kTile) * tiles_x + x / wedge_pass::kTile);
+      const wedge_pass::PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
+      if (!pl.valid()) continue;
+      const LightProjection& lp = pl.projection();
+      put3(px.to_u, lp.to_u), put3(px.to_v, lp.to_v), put3(px.to_w, lp.to_w);
+      px.flags = kValid | (pl.round() ? kRound : 0) | (pl.tau() < 0.0 ? kTauNeg : 0);
+    }
+
+    // Wedges, edges, face planes and the tile bins (CSR).
+    std::vector<WedgeGpu> wedges(fr.bw.wedges.size());
+    for (size_t w = 0; w < wedges.size(); ++w) {
+      const Wedge& src = fr.bw.wedges[w];
+      WedgeGpu& dst = wedges[w];
+      dst = {};
+      for (int p = 0; p < src.plane_count; ++p) {
+        put3(dst.planes[p], src.planes[p].n);
+        dst.planes[p][3] = src.planes[p].d;
+      }
+      put3(dst.e0, src.e0), put3(dst.e1, src.e1);
+      dst.tolerance = src.tolerance;
+      dst.plane_count = src.plane_count;
+      dst.edge = fr.bw.group[w];
+    }
+    std::vector<EdgeGpu> edges;
+    for (const dcs::Edge& e : fr.edges.edges)
+      edges.push_back({e.centre_multiplicity, e.face_begin, e.face_count, e.layer_class});
+    std::vector<FaceGpu> faces;
+    for (const dcs::EdgeFace& f : fr.edges.faces) {
+      FaceGpu fg{};
+      put3(fg.n, f.n);
+      fg.d = f.d;
+      fg.sign = f.sign;
+      faces.push_back(fg);
+    }
+    std::vector<uint32_t> bin_begin(1, 0), bin_entries;
+    uint32_t longest = 0;
+    for (const std::vector<uint32_t>& bin : fr.bw.bins) {
+      bin_entries.insert(bin_entries.end(), bin.begin(), bin.end());
+      bin_begin.push_back(static_cast<uint32_t>(bin_entries.size()));
+      longest = std::max(longest, static_cast<uint32_t>(bin.size()));
+    }
+    if (bin_begin.size() == 1) bin_begin.push_back(0);
+
+    // Centre counts per class, and the attenuation of the semi-opaque classes per crossing count
+    // (the CPU's float(pow(t, count)) or float((1 − t)·count), tabulated up to the largest count a
+    // pixel can reach: its centre count plus every edge of the class stepping once).
+    const uint32_t classes = static_cast<uint32_t>(fr.classes.size());
+    std::vector<int32_t> centre(size_t{classes} * na);
+    std::vector<int64_t> reach(classes, 0);
+    for (uint32_t j = 0; j < classes; ++j)
+      for (uint32_t a = 0; a < na; ++a) {
+        centre[size_t{j} * na + a] = fr.classes[j].centre_counts[active[a]];
+        reach[j] = std::max<int64_t>(reach[j], std::abs(centre[size_t{j} * na + a]));
+      }
+    for (const dcs::Edge& e : fr.edges.edges)
+      reach[e.layer_class] += std::max<int64_t>(e.centre_multiplicity, e.face_count);
+    int64_t table = 1;
+    for (uint32_t j = 1; j < classes; ++j) table = std::max(table, reach[j] + 1);
+    if (table > (int64_t{1} << 24))
+      throw Error("dcs on vulkan: semi-opaque depth complexity too large to tabulate");
+    std::vector<float> attenuation(size_t{classes} * table, 0.0f);
+    for (uint32_t j = 1; j < classes; ++j)
+      for (int64_t c = 0; c < table; ++c) {
+        const double t = fr.classes[j].transmittance;
+        attenuation[j * table + c] = options_.semi_opaque == DcsSemiOpaque::paper
+                                         ? static_cast<float>((1.0 - t) * static_cast<double>(c))
+                                         : static_cast<float>(std::pow(t, static_cast<int>(c)));
+      }
+    const uint64_t counter_count = uint64_t{classes} * n * na;
+    if (counter_count >= (uint64_t{1} << 31))
+      throw Error("dcs on vulkan: " + std::to_string(counter_count) +
+                  " counters (pixels × samples × layer classes) exceed 2^31; lower the "
+                  "resolution or the sample count");
+    out.times.add("gpu_setup_host", elapsed_ms(t0));
+
+    t0 = std::chrono::steady_clock::now();
+    const Buffer pix_buf = vk.upload(pixels);
+    const Buffer wedge_buf = vk.upload(wedges);
+    const Buffer edge_buf = vk.upload(edges);
+    const Buffer face_buf = vk.upload(faces);
+    const Buffer begin_buf = vk.upload(bin_begin);
+    const Buffer entry_buf = vk.upload(bin_entries);
+    const Buffer sample_buf = vk.upload(sample_uv);
+    const Buffer band_buf = vk.upload(band_begin);
+    const Buffer centre_buf = vk.upload(centre);
+    const Buffer atten_buf = vk.upload(attenuation);
+    const Buffer emit_buf = vk.upload(emit_index);
+    const Buffer counters(vk, std::max<uint64_t>(counter_count, 1) * 4, Memory::device);
+    const Buffer state(vk, std::max<size_t>(na, 1) * 8, Memory::device);
+    const Buffer lit(vk, std::max<size_t>(na, 1) * 4, Memory::device);
+    const uint32_t words = static_cast<uint32_t>((n + 31) / 32);
+    const Buffer masks(vk, std::max<size_t>(size_t{na} * words, 1) * 4, Memory::device);
+    const bool want_vis = light.is_textured();
+    const Buffer sample_vis(vk, want_vis ? std::max<size_t>(size_t{na} * n, 1) * 4 : 16,
+                            Memory::device);
+    out.times.add("wall_upload", elapsed_ms(t0));
+
+    t0 = std::chrono::steady_clock::now();
+    Programs& programs = backend_.programs();
+    if (na > 0) {
+      CommandList cl(vk);
+      cl.fill(state, 0);
+      cl.fill(masks, 0);
+      cl.dispatch(programs.get(Shader::dcs_init),
+                  InitPush{centre_buf.address(), counters.address(), na, static_cast<uint32_t>(n),
+                           static_cast<uint32_t>(counter_count)},
+                  counter_count);
+      cl.barrier();
+      cl.mark("init");
+      const uint32_t chunk = bin_chunk(vk, n);
+      for (uint32_t first = 0; first < longest; first += chunk) {
+        cl.dispatch(programs.get(Shader::dcs_edges),
+                    EdgesPush{pix_buf.address(), wedge_buf.address(), edge_buf.address(),
+                              face_buf.address(), begin_buf.address(), entry_buf.address(),
+                              sample_buf.address(), band_buf.address(), counters.address(),
+                              state.address(), na, static_cast<uint32_t>(n),
+                              static_cast<uint32_t>(ctx.samples.k()), first, chunk},
+                    na);
+        cl.barrier();
+      }
+      cl.mark("edges");
+      cl.dispatch(
+          programs.get(Shader::dcs_finish),
+          FinishPush{centre_buf.address(), state.address(), counters.address(), atten_buf.address(),
+                     emit_buf.address(), lit.address(), masks.address(), sample_vis.address(), na,
+                     static_cast<uint32_t>(n), classes, static_cast<uint32_t>(table),
+                     options_.semi_opaque == DcsSemiOpaque::paper ? 1u : 0u, words,
+                     want_vis ? 1u : 0u},
+          na);
+      cl.barrier();
+      cl.mark("finish");
+      cl.submit(&out.times);
+    }
+    out.times.add("wall_gpu", elapsed_ms(t0));
+
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<float> lit_host = vk.download<float>(lit, na);
+    const std::vector<uint32_t> mask_words = vk.download<uint32_t>(masks, size_t{na} * words);
+    std::vector<int32_t> state_host;
+    std::vector<float> vis_host;
+    if (want_vis) {
+      state_host = vk.download<int32_t>(state, size_t{na} * 2);
+      vis_host = vk.download<float>(sample_vis, size_t{na} * n);
+    }
+    const Texture* emission =
+        want_vis ? &wedge_pass::emission_texture(ctx.scene, light, "dcs") : nullptr;
+    for (uint32_t a = 0; a < na; ++a) {
+      const uint32_t i = active[a];
+      out.lit[i] = lit_host[a];
+      if (out.masks) {
+        uint64_t* m = out.masks->pixel(i);
+        for (uint32_t w = 0; w < words; ++w)
+          m[w >> 1] |= uint64_t{mask_words[size_t{a} * words + w]} << (32 * (w & 1));
+      }
+      if (!emission) continue;
+      if (state_host[2 * a] != 2) {  // uniform: every sample has the same visibility
+        (*out.lit_rgb)[i] = Vec3(lit_host[a]);
+        continue;
+      }
+      const LightFrame frame = light_frame(light, g.shadow_origin(i));
+      const SampleWeights w =
+          accumulate_sample_weights(frame, emission, light.radiance, ss.uv,
+                                    std::span<const float>(vis_host.data() + size_t{a} * n, n));
+      (*out.lit_rgb)[i] = w.visible_fraction_rgb();
+      out.lit[i] = w.visible_fraction();
+    }
+    out.times.add("wall_readback", elapsed_ms(t0));
+
+    Counters& k = out.counters;
+    k["silhouette_edges"] = static_cast<double>(fr.edges.edges.size());
+    k["straddling_edges"] = static_cast<double>(fr.edges.straddling);
+    k["wedges"] = static_cast<double>(fr.bw.wedges.size());
+    k["tile_bin_entries"] = static_cast<double>(bin_entries.size());
+    k["layer_classes"] = static_cast<double>(classes);
+    k["alpha_textured_as_opaque"] = static_cast<double>(fr.alpha_triangles);
+    k["active_pixels"] = static_cast<double>(na);
+    return out;
+  }
+
+ private:
+  Backend& backend_;
+  DcsOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowMethod> create_dcs_vk(Backend& backend, const MethodOptions& options) {
+  return std::make_unique<DcsVk>(backend, options);
+}
+
+}  // namespace penumbra::gpu
