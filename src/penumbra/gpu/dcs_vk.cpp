@@ -1,25 +1,31 @@
 // `dcs` on Vulkan: depth complexity sampling [Forest 2008 ch. 4] with the per-receiver work in
 // compute shaders, on the frame's G-buffer and light samples:
 //   host:  the CPU method's own setup (wedges/dcs_frame.hpp: layer classes, silhouette edges
-//          w.r.t. the whole light and their face planes, centre counts, wedges binned to 16×16
-//          tiles) and each pixel's light projection (wedges/pass.hpp PixelLight);
+//          w.r.t. the whole light and their face planes, centre counts, wedges and S-triangle
+//          volumes binned to 16×16 tiles) and each pixel's light frame and projection
+//          (wedges/pass.hpp PixelLight);
 //   GPU:   counters := centre counts (dcs_init), per pixel the wedges of its tile's bin — weight,
 //          wedge test, clipped projected edge, covered region, signed counter steps (dcs_edges,
-//          in chunks of the bins), then the CPU's three outcomes per pixel and V (dcs_finish);
+//          in chunks of the bins) — and the S-triangles of its tile's bin — volume test, J, the
+//          opaque texels the samples' segments cross (dcs_stsv) — then the CPU's three outcomes
+//          per pixel and V (dcs_finish);
 //   host:  masks and V read back; a textured light's weighting from the per-sample visibility.
 // Each step is the CPU's arithmetic (double where the CPU uses double, `precise`), so the masks
 // are the CPU dcs's, hence `raytrace`'s.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 #include "penumbra/shadows/wedges/dcs_counters.hpp"
 #include "penumbra/shadows/wedges/dcs_frame.hpp"
+#include "penumbra/shadows/wedges/stsv_lookup.hpp"
 #include "penumbra/shadows/wedges/wedges.hpp"
 
 namespace penumbra::gpu {
@@ -49,9 +55,20 @@ struct FaceGpu {
 static_assert(sizeof(FaceGpu) == 40);
 struct PixelGpu {
   double p[3], to_u[3], to_v[3], to_w[3];
+  double corner[3], edge_u[3], edge_v[3];
   uint32_t tile, flags;
 };
-static_assert(sizeof(PixelGpu) == 104);
+static_assert(sizeof(PixelGpu) == 176);
+struct STriGpu {
+  double v0[3], e1[3], e2[3];
+  double to_triangle[3][3];  // rows
+  float uv[3][2];
+  uint32_t texel_offset;
+  int32_t width, height;
+  uint32_t layer_class;
+  int32_t side_count, pad;
+};
+static_assert(sizeof(STriGpu) == 192);
 constexpr uint32_t kValid = 1, kRound = 2, kTauNeg = 4;
 
 struct InitPush {
@@ -63,11 +80,18 @@ struct EdgesPush {
       state;
   uint32_t na, n, k, first, chunk;
 };
+struct StsvPush {
+  VkDeviceAddress pix, tris, sides, bin_begin, bin_entries, texels, samples, band_begin, counters,
+      state;
+  uint32_t na, n, k, first, chunk;
+  float min_inverse_t;
+};
 struct FinishPush {
   VkDeviceAddress centre, state, counters, attenuation, emit_index, lit, masks, sample_vis;
   uint32_t na, n, classes, table, paper, words, want_vis;
 };
-static_assert(sizeof(EdgesPush) <= kPushBytes && sizeof(FinishPush) <= kPushBytes);
+static_assert(sizeof(EdgesPush) <= kPushBytes && sizeof(StsvPush) <= kPushBytes &&
+              sizeof(FinishPush) <= kPushBytes);
 
 void put3(double* out, const DVec3& v) {
   out[0] = v.x, out[1] = v.y, out[2] = v.z;
@@ -79,6 +103,68 @@ void put3(double* out, const DVec3& v) {
 uint32_t bin_chunk(const VulkanContext& vk, int samples) {
   if (vk.info().type != "cpu") return UINT32_MAX / 2;
   return std::max<uint32_t>(1, 60000u / static_cast<uint32_t>(samples + 32));
+}
+
+WedgeGpu to_gpu(const Wedge& src, uint32_t edge) {
+  WedgeGpu dst{};
+  for (int p = 0; p < src.plane_count; ++p) {
+    put3(dst.planes[p], src.planes[p].n);
+    dst.planes[p][3] = src.planes[p].d;
+  }
+  put3(dst.e0, src.e0), put3(dst.e1, src.e1);
+  dst.tolerance = src.tolerance;
+  dst.plane_count = src.plane_count;
+  dst.edge = edge;
+  return dst;
+}
+
+/// Per-tile bins as CSR: entries of tile t are entries[begin[t], begin[t + 1]).
+struct Bins {
+  std::vector<uint32_t> begin{0}, entries;
+  uint32_t longest = 0;
+  explicit Bins(const std::vector<std::vector<uint32_t>>& bins) {
+    for (const std::vector<uint32_t>& bin : bins) {
+      entries.insert(entries.end(), bin.begin(), bin.end());
+      begin.push_back(static_cast<uint32_t>(entries.size()));
+      longest = std::max(longest, static_cast<uint32_t>(bin.size()));
+    }
+    if (begin.size() == 1) begin.push_back(0);
+  }
+};
+
+/// The S-triangles, their volume sides (two per triangle) and the alpha textures as bits
+/// (alpha ≥ kAlphaCutoff: the texel blocks).
+struct StsvData {
+  std::vector<STriGpu> tris;
+  std::vector<WedgeGpu> sides;
+  std::vector<uint32_t> texels;
+};
+StsvData stsv_data(const stsv::StsvSet& set) {
+  StsvData out;
+  std::map<const Texture*, uint32_t> offset_of;
+  for (size_t t = 0; t < set.triangles.size(); ++t) {
+    const stsv::STriangle& src = set.triangles[t];
+    STriGpu dst{};
+    put3(dst.v0, src.v0), put3(dst.e1, src.e1), put3(dst.e2, src.e2);
+    for (int r = 0; r < 3; ++r)  // glm is column-major: row r is (m[0][r], m[1][r], m[2][r])
+      put3(dst.to_triangle[r],
+           DVec3(src.to_triangle[0][r], src.to_triangle[1][r], src.to_triangle[2][r]));
+    for (int c = 0; c < 3; ++c) dst.uv[c][0] = src.uv[c].x, dst.uv[c][1] = src.uv[c].y;
+    const Texture& alpha = *src.alpha;
+    auto [it, added] = offset_of.emplace(&alpha, static_cast<uint32_t>(out.texels.size()));
+    if (added)
+      for (int y = 0; y < alpha.height; ++y)
+        for (int x = 0; x < alpha.width; ++x)
+          out.texels.push_back(alpha.channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
+    dst.texel_offset = it->second;
+    dst.width = alpha.width, dst.height = alpha.height;
+    dst.layer_class = src.layer_class;
+    const stsv::Volume& v = set.volumes[t];
+    dst.side_count = v.side_count;
+    out.tris.push_back(dst);
+    for (int k = 0; k < 2; ++k) out.sides.push_back(to_gpu(v.sides[k], 0));
+  }
+  return out;
 }
 
 class DcsVk final : public ShadowMethod {
@@ -108,11 +194,6 @@ class DcsVk final : public ShadowMethod {
 
     double stsv_ms = 0.0;
     const Frame fr = dcs::prepare_frame(ctx, options_, out, stsv_ms);
-    if (!fr.stsv.empty())
-      throw Error(
-          "dcs on vulkan: alpha-textured casters need dcs.alpha=opaque (soft textured shadow "
-          "volumes are not on the GPU yet; use --backend cpu)");
-
     auto t0 = std::chrono::steady_clock::now();
     // The samples sorted into bands of v, as the CPU's Sampler sorts them.
     const bool round = light.shape == LightShape::disk || light.shape == LightShape::sphere;
@@ -135,7 +216,8 @@ class DcsVk final : public ShadowMethod {
     for (size_t i = 0; i < g.pixel_count(); ++i)
       if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const int tiles_x = fr.area ? fr.bw.tiles_x : 1;
+    const int tiles_x = fr.setup.tiles_x;
+    const bool any_bins = fr.area || !fr.stsv.empty();
     const bool per_pixel_frame = frame_depends_on_receiver(light);
     const LightFrame fixed_frame = light_frame(light, light.center);
     std::vector<PixelGpu> pixels(na);
@@ -145,8 +227,11 @@ class DcsVk final : public ShadowMethod {
       PixelGpu& px = pixels[a];
       px = {};
       put3(px.p, DVec3(g.shadow_origin(i)));
-      if (!fr.area) continue;
+      if (!any_bins) continue;
       px.tile = static_cast<uint32_t>((y / wedge_pass::kTile) * tiles_x + x / wedge_pass::kTile);
+      const LightFrame f = light_frame(light, g.shadow_origin(i));
+      put3(px.corner, DVec3(f.corner)), put3(px.edge_u, DVec3(f.edge_u));
+      put3(px.edge_v, DVec3(f.edge_v));
       const wedge_pass::PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
       if (!pl.valid()) continue;
       const LightProjection& lp = pl.projection();
@@ -156,19 +241,7 @@ class DcsVk final : public ShadowMethod {
 
     // Wedges, edges, face planes and the tile bins (CSR).
     std::vector<WedgeGpu> wedges(fr.bw.wedges.size());
-    for (size_t w = 0; w < wedges.size(); ++w) {
-      const Wedge& src = fr.bw.wedges[w];
-      WedgeGpu& dst = wedges[w];
-      dst = {};
-      for (int p = 0; p < src.plane_count; ++p) {
-        put3(dst.planes[p], src.planes[p].n);
-        dst.planes[p][3] = src.planes[p].d;
-      }
-      put3(dst.e0, src.e0), put3(dst.e1, src.e1);
-      dst.tolerance = src.tolerance;
-      dst.plane_count = src.plane_count;
-      dst.edge = fr.bw.group[w];
-    }
+    for (size_t w = 0; w < wedges.size(); ++w) wedges[w] = to_gpu(fr.bw.wedges[w], fr.bw.group[w]);
     std::vector<EdgeGpu> edges;
     for (const dcs::Edge& e : fr.edges.edges)
       edges.push_back({e.centre_multiplicity, e.face_begin, e.face_count, e.layer_class});
@@ -180,14 +253,9 @@ class DcsVk final : public ShadowMethod {
       fg.sign = f.sign;
       faces.push_back(fg);
     }
-    std::vector<uint32_t> bin_begin(1, 0), bin_entries;
-    uint32_t longest = 0;
-    for (const std::vector<uint32_t>& bin : fr.bw.bins) {
-      bin_entries.insert(bin_entries.end(), bin.begin(), bin.end());
-      bin_begin.push_back(static_cast<uint32_t>(bin_entries.size()));
-      longest = std::max(longest, static_cast<uint32_t>(bin.size()));
-    }
-    if (bin_begin.size() == 1) bin_begin.push_back(0);
+    const Bins bins(fr.bw.bins);
+    const Bins stsv_bins(fr.stsv.empty() ? std::vector<std::vector<uint32_t>>{} : fr.stsv.bins);
+    const StsvData stsv = stsv_data(fr.stsv);
 
     // Centre counts per class, and the attenuation of the semi-opaque classes per crossing count
     // (the CPU's float(pow(t, count)) or float((1 − t)·count), tabulated up to the largest count a
@@ -226,8 +294,13 @@ class DcsVk final : public ShadowMethod {
     const Buffer wedge_buf = vk.upload(wedges);
     const Buffer edge_buf = vk.upload(edges);
     const Buffer face_buf = vk.upload(faces);
-    const Buffer begin_buf = vk.upload(bin_begin);
-    const Buffer entry_buf = vk.upload(bin_entries);
+    const Buffer begin_buf = vk.upload(bins.begin);
+    const Buffer entry_buf = vk.upload(bins.entries);
+    const Buffer stsv_begin_buf = vk.upload(stsv_bins.begin);
+    const Buffer stsv_entry_buf = vk.upload(stsv_bins.entries);
+    const Buffer stsv_tri_buf = vk.upload(stsv.tris);
+    const Buffer stsv_side_buf = vk.upload(stsv.sides);
+    const Buffer texel_buf = vk.upload(stsv.texels);
     const Buffer sample_buf = vk.upload(sample_uv);
     const Buffer band_buf = vk.upload(band_begin);
     const Buffer centre_buf = vk.upload(centre);
@@ -256,7 +329,7 @@ class DcsVk final : public ShadowMethod {
       cl.barrier();
       cl.mark("init");
       const uint32_t chunk = bin_chunk(vk, n);
-      for (uint32_t first = 0; first < longest; first += chunk) {
+      for (uint32_t first = 0; first < bins.longest; first += chunk) {
         cl.dispatch(programs.get(Shader::dcs_edges),
                     EdgesPush{pix_buf.address(), wedge_buf.address(), edge_buf.address(),
                               face_buf.address(), begin_buf.address(), entry_buf.address(),
@@ -267,6 +340,18 @@ class DcsVk final : public ShadowMethod {
         cl.barrier();
       }
       cl.mark("edges");
+      for (uint32_t first = 0; first < stsv_bins.longest; first += chunk) {
+        cl.dispatch(
+            programs.get(Shader::dcs_stsv),
+            StsvPush{pix_buf.address(), stsv_tri_buf.address(), stsv_side_buf.address(),
+                     stsv_begin_buf.address(), stsv_entry_buf.address(), texel_buf.address(),
+                     sample_buf.address(), band_buf.address(), counters.address(), state.address(),
+                     na, static_cast<uint32_t>(n), static_cast<uint32_t>(ctx.samples.k()), first,
+                     chunk, stsv::kMinInverseT},
+            na);
+        cl.barrier();
+      }
+      if (stsv_bins.longest > 0) cl.mark("stsv");
       cl.dispatch(
           programs.get(Shader::dcs_finish),
           FinishPush{centre_buf.address(), state.address(), counters.address(), atten_buf.address(),
@@ -318,7 +403,8 @@ class DcsVk final : public ShadowMethod {
     k["silhouette_edges"] = static_cast<double>(fr.edges.edges.size());
     k["straddling_edges"] = static_cast<double>(fr.edges.straddling);
     k["wedges"] = static_cast<double>(fr.bw.wedges.size());
-    k["tile_bin_entries"] = static_cast<double>(bin_entries.size());
+    k["tile_bin_entries"] = static_cast<double>(bins.entries.size());
+    k["stsv_triangles"] = static_cast<double>(fr.stsv.triangles.size());
     k["layer_classes"] = static_cast<double>(classes);
     k["alpha_textured_as_opaque"] = static_cast<double>(fr.alpha_triangles);
     k["active_pixels"] = static_cast<double>(na);

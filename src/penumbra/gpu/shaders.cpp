@@ -77,6 +77,9 @@ const uint32_t kDcsInit[] = {
 const uint32_t kDcsEdges[] = {
 #include "dcs_edges.comp.inc"
 };
+const uint32_t kDcsStsv[] = {
+#include "dcs_stsv.comp.inc"
+};
 const uint32_t kDcsFinish[] = {
 #include "dcs_finish.comp.inc"
 };
@@ -133,6 +136,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDcsInit;
     case Shader::dcs_edges:
       return kDcsEdges;
+    case Shader::dcs_stsv:
+      return kDcsStsv;
     case Shader::dcs_finish:
       return kDcsFinish;
     case Shader::count_:

@@ -34,6 +34,7 @@ enum class Shader {
   volume_frag,
   dcs_init,
   dcs_edges,
+  dcs_stsv,
   dcs_finish,
   count_
 };

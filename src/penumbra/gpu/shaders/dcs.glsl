@@ -37,10 +37,12 @@ struct Face {
 layout(buffer_reference, scalar) buffer Faces { Face v[]; };
 
 /// One active pixel: its shadow origin p, the light projection seen from it
-/// (exact/projection.hpp LightProjection: U = dot(x − p, to_u), ...), its screen tile, and flags
+/// (exact/projection.hpp LightProjection: U = dot(x − p, to_u), ...), its light frame, its screen
+/// tile, and flags
 /// (kValid: the projection exists; kRound: a disk's inscribed circle; kTauNeg: τ = −1).
 struct Pixel {
   dvec3 p, to_u, to_v, to_w;
+  dvec3 corner, edge_u, edge_v;  // its light frame (LightFrame of scene/light.hpp, in double)
   uint tile, flags;
 };
 layout(buffer_reference, scalar) buffer Pixels { Pixel v[]; };
