@@ -38,6 +38,9 @@ const uint32_t kGearsLongest[] = {
 const uint32_t kGearsRaster[] = {
 #include "gears_raster.comp.inc"
 };
+const uint32_t kGearsSamples[] = {
+#include "gears_samples.comp.inc"
+};
 const uint32_t kDepthMin[] = {
 #include "depth_min.comp.inc"
 };
@@ -110,6 +113,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kGearsLongest;
     case Shader::gears_raster:
       return kGearsRaster;
+    case Shader::gears_samples:
+      return kGearsSamples;
     case Shader::depth_min:
       return kDepthMin;
     case Shader::shadow_lookup:

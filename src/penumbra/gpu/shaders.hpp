@@ -21,6 +21,7 @@ enum class Shader {
   gears_ranges,
   gears_longest,
   gears_raster,
+  gears_samples,
   depth_min,
   shadow_lookup,
   shadow_lookup_f64,
