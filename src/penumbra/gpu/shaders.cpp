@@ -86,6 +86,9 @@ const uint32_t kDcsStsv[] = {
 const uint32_t kDcsFinish[] = {
 #include "dcs_finish.comp.inc"
 };
+const uint32_t kSsmBlend[] = {
+#include "ssm_blend.comp.inc"
+};
 
 }  // namespace
 
@@ -145,6 +148,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDcsStsv;
     case Shader::dcs_finish:
       return kDcsFinish;
+    case Shader::ssm_blend:
+      return kSsmBlend;
     case Shader::count_:
       break;
   }

@@ -37,6 +37,7 @@ enum class Shader {
   dcs_edges,
   dcs_stsv,
   dcs_finish,
+  ssm_blend,
   count_
 };
 
