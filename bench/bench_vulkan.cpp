@@ -177,6 +177,9 @@ PENUMBRA_GPU_BENCH(gears, spheres, gears_args);
 PENUMBRA_GPU_BENCH(dcs, bunny, raster_args);
 PENUMBRA_GPU_BENCH(dcs, dragon, raster_args);
 PENUMBRA_GPU_BENCH(dcs, spheres, raster_args);
+PENUMBRA_GPU_BENCH(ssm, bunny, raster_args);
+PENUMBRA_GPU_BENCH(ssm, dragon, raster_args);
+PENUMBRA_GPU_BENCH(ssm, spheres, raster_args);
 BENCHMARK_CAPTURE(BM_Cpu, raytrace_bunny, std::string("raytrace"), std::string("bunny"))
     ->Apply(raster_args);
 BENCHMARK_CAPTURE(BM_Cpu, raytrace_dragon, std::string("raytrace"), std::string("dragon"))
