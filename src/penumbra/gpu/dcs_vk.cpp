@@ -167,6 +167,131 @@ StsvData stsv_data(const stsv::StsvSet& set) {
   return out;
 }
 
+/// The light samples sorted into bands of v, as the CPU's Sampler sorts them, as the shaders read
+/// them: (u, v) pairs, emits | LightSamples index, the band starts.
+struct Samples {
+  dcs::SampleSet set;
+  std::vector<float> uv;
+  std::vector<uint32_t> emit_index;
+  std::vector<int32_t> band_begin;
+};
+Samples samples_of(const ShadowContext& ctx) {
+  Samples out;
+  const bool round = ctx.light.shape == LightShape::disk || ctx.light.shape == LightShape::sphere;
+  out.set.assign(ctx.samples.shared_samples(), ctx.samples.k(), [&](const Vec2& uv) {
+    if (!round) return true;
+    const Vec2 d = uv - Vec2(0.5f);
+    return glm::dot(d, d) <= 0.25f;  // LightFrame::emits of a round light
+  });
+  for (int s = 0; s < ctx.samples.count(); ++s) {
+    out.uv.insert(out.uv.end(), {out.set.u[s], out.set.v[s]});
+    out.emit_index.push_back((out.set.emit[s] ? 0x10000u : 0u) | out.set.index[s]);
+  }
+  out.band_begin.assign(out.set.band_begin.begin(), out.set.band_begin.end());
+  return out;
+}
+
+/// Per active pixel: shadow origin, tile, light frame and projection (PixelLight, as the CPU's
+/// pass computes them).
+std::vector<PixelGpu> pixels_of(const ShadowContext& ctx, const Frame& fr,
+                                const std::vector<uint32_t>& active) {
+  const GBuffer& g = ctx.gbuffer;
+  const Light& light = ctx.light;
+  const bool any_bins = fr.area || !fr.stsv.empty();
+  const bool per_pixel_frame = frame_depends_on_receiver(light);
+  const LightFrame fixed_frame = light_frame(light, light.center);
+  std::vector<PixelGpu> pixels(active.size());
+  for (size_t a = 0; a < active.size(); ++a) {
+    const uint32_t i = active[a];
+    const int x = static_cast<int>(i % g.width), y = static_cast<int>(i / g.width);
+    PixelGpu& px = pixels[a];
+    px = {};
+    put3(px.p, DVec3(g.shadow_origin(i)));
+    if (!any_bins) continue;
+    px.tile =
+        static_cast<uint32_t>((y / wedge_pass::kTile) * fr.setup.tiles_x + x / wedge_pass::kTile);
+    const LightFrame f = light_frame(light, g.shadow_origin(i));
+    put3(px.corner, DVec3(f.corner)), put3(px.edge_u, DVec3(f.edge_u));
+    put3(px.edge_v, DVec3(f.edge_v));
+    const wedge_pass::PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
+    if (!pl.valid()) continue;
+    const LightProjection& lp = pl.projection();
+    put3(px.to_u, lp.to_u), put3(px.to_v, lp.to_v), put3(px.to_w, lp.to_w);
+    px.flags = kValid | (pl.round() ? kRound : 0) | (pl.tau() < 0.0 ? kTauNeg : 0);
+  }
+  return pixels;
+}
+
+/// The wedges, their edges and the straddling edges' face planes.
+struct Geometry {
+  std::vector<WedgeGpu> wedges;
+  std::vector<EdgeGpu> edges;
+  std::vector<FaceGpu> faces;
+};
+Geometry geometry_of(const Frame& fr) {
+  Geometry out;
+  for (size_t w = 0; w < fr.bw.wedges.size(); ++w)
+    out.wedges.push_back(to_gpu(fr.bw.wedges[w], fr.bw.group[w]));
+  for (const dcs::Edge& e : fr.edges.edges)
+    out.edges.push_back({e.centre_multiplicity, e.face_begin, e.face_count, e.layer_class});
+  for (const dcs::EdgeFace& f : fr.edges.faces) {
+    FaceGpu fg{};
+    put3(fg.n, f.n);
+    fg.d = f.d;
+    fg.sign = f.sign;
+    out.faces.push_back(fg);
+  }
+  return out;
+}
+
+/// Centre counts per class (class·na + pixel), and the attenuation of the semi-opaque classes per
+/// crossing count — the CPU's float(pow(t, count)) or float((1 − t)·count) — tabulated up to the
+/// largest count a pixel can reach: its centre count plus every edge of the class stepping once
+/// by its largest weight plus every S-triangle of the class once.
+struct Classes {
+  uint32_t count = 0;
+  std::vector<int32_t> centre;
+  uint32_t table = 1;
+  std::vector<float> attenuation;  // class·table + crossings
+};
+Classes classes_of(const Frame& fr, const std::vector<uint32_t>& active, DcsSemiOpaque mode) {
+  Classes out;
+  out.count = static_cast<uint32_t>(fr.classes.size());
+  const size_t na = active.size();
+  out.centre.resize(out.count * na);
+  std::vector<int64_t> reach(out.count, 0);
+  for (uint32_t j = 0; j < out.count; ++j)
+    for (size_t a = 0; a < na; ++a) {
+      const int32_t c = fr.classes[j].centre_counts[active[a]];
+      out.centre[j * na + a] = c;
+      reach[j] = std::max<int64_t>(reach[j], std::abs(c));
+    }
+  for (const dcs::Edge& e : fr.edges.edges)
+    reach[e.layer_class] += std::max<int64_t>(e.centre_multiplicity, e.face_count);
+  for (const stsv::STriangle& t : fr.stsv.triangles) ++reach[t.layer_class];
+  int64_t table = 1;
+  for (uint32_t j = 1; j < out.count; ++j) table = std::max(table, reach[j] + 1);
+  if (table > (int64_t{1} << 24))
+    throw Error("dcs on vulkan: semi-opaque depth complexity too large to tabulate");
+  out.table = static_cast<uint32_t>(table);
+  out.attenuation.assign(size_t{out.count} * out.table, 0.0f);
+  for (uint32_t j = 1; j < out.count; ++j)
+    for (uint32_t c = 0; c < out.table; ++c) {
+      const double t = fr.classes[j].transmittance;
+      out.attenuation[size_t{j} * out.table + c] =
+          mode == DcsSemiOpaque::paper ? static_cast<float>((1.0 - t) * static_cast<double>(c))
+                                       : static_cast<float>(std::pow(t, static_cast<int>(c)));
+    }
+  return out;
+}
+
+/// Everything the shaders read, on the device, and what they write.
+struct DeviceData {
+  Buffer pixels, wedges, edges, faces, bin_begin, bin_entries, stsv_begin, stsv_entries, stsv_tris,
+      stsv_sides, texels, samples, band_begin, centre, attenuation, emit_index;
+  Buffer counters, state, lit, masks, sample_vis;
+};
+
 class DcsVk final : public ShadowMethod {
  public:
   DcsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
@@ -185,181 +310,100 @@ class DcsVk final : public ShadowMethod {
     if (ctx.samples.per_pixel())
       throw Error("dcs on vulkan: per-pixel sample patterns are not supported (use --backend cpu)");
     const GBuffer& g = ctx.gbuffer;
-    const Light& light = ctx.light;
     const int n = ctx.samples.count();
     Visibility out;
     out.lit = Image<float>(g.width, g.height, 1.0f);
-    if (light.is_textured()) out.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    if (ctx.light.is_textured()) out.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
     if (ctx.want_masks) out.masks = SampleMasks(g.width, g.height, n);
 
     double stsv_ms = 0.0;
     const Frame fr = dcs::prepare_frame(ctx, options_, out, stsv_ms);
     auto t0 = std::chrono::steady_clock::now();
-    // The samples sorted into bands of v, as the CPU's Sampler sorts them.
-    const bool round = light.shape == LightShape::disk || light.shape == LightShape::sphere;
-    dcs::SampleSet ss;
-    ss.assign(ctx.samples.shared_samples(), ctx.samples.k(), [&](const Vec2& uv) {
-      if (!round) return true;
-      const Vec2 d = uv - Vec2(0.5f);
-      return glm::dot(d, d) <= 0.25f;
-    });
-    std::vector<float> sample_uv;
-    std::vector<uint32_t> emit_index(n);
-    for (int s = 0; s < n; ++s) {
-      sample_uv.insert(sample_uv.end(), {ss.u[s], ss.v[s]});
-      emit_index[s] = (ss.emit[s] ? 0x10000u : 0u) | ss.index[s];
-    }
-    const std::vector<int32_t> band_begin(ss.band_begin.begin(), ss.band_begin.end());
-
-    // Active pixels and their light projections (PixelLight, as the CPU's pass computes them).
     std::vector<uint32_t> active;
     for (size_t i = 0; i < g.pixel_count(); ++i)
       if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const int tiles_x = fr.setup.tiles_x;
-    const bool any_bins = fr.area || !fr.stsv.empty();
-    const bool per_pixel_frame = frame_depends_on_receiver(light);
-    const LightFrame fixed_frame = light_frame(light, light.center);
-    std::vector<PixelGpu> pixels(na);
-    for (uint32_t a = 0; a < na; ++a) {
-      const uint32_t i = active[a];
-      const int x = static_cast<int>(i % g.width), y = static_cast<int>(i / g.width);
-      PixelGpu& px = pixels[a];
-      px = {};
-      put3(px.p, DVec3(g.shadow_origin(i)));
-      if (!any_bins) continue;
-      px.tile = static_cast<uint32_t>((y / wedge_pass::kTile) * tiles_x + x / wedge_pass::kTile);
-      const LightFrame f = light_frame(light, g.shadow_origin(i));
-      put3(px.corner, DVec3(f.corner)), put3(px.edge_u, DVec3(f.edge_u));
-      put3(px.edge_v, DVec3(f.edge_v));
-      const wedge_pass::PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
-      if (!pl.valid()) continue;
-      const LightProjection& lp = pl.projection();
-      put3(px.to_u, lp.to_u), put3(px.to_v, lp.to_v), put3(px.to_w, lp.to_w);
-      px.flags = kValid | (pl.round() ? kRound : 0) | (pl.tau() < 0.0 ? kTauNeg : 0);
-    }
-
-    // Wedges, edges, face planes and the tile bins (CSR).
-    std::vector<WedgeGpu> wedges(fr.bw.wedges.size());
-    for (size_t w = 0; w < wedges.size(); ++w) wedges[w] = to_gpu(fr.bw.wedges[w], fr.bw.group[w]);
-    std::vector<EdgeGpu> edges;
-    for (const dcs::Edge& e : fr.edges.edges)
-      edges.push_back({e.centre_multiplicity, e.face_begin, e.face_count, e.layer_class});
-    std::vector<FaceGpu> faces;
-    for (const dcs::EdgeFace& f : fr.edges.faces) {
-      FaceGpu fg{};
-      put3(fg.n, f.n);
-      fg.d = f.d;
-      fg.sign = f.sign;
-      faces.push_back(fg);
-    }
-    const Bins bins(fr.bw.bins);
-    const Bins stsv_bins(fr.stsv.empty() ? std::vector<std::vector<uint32_t>>{} : fr.stsv.bins);
-    const StsvData stsv = stsv_data(fr.stsv);
-
-    // Centre counts per class, and the attenuation of the semi-opaque classes per crossing count
-    // (the CPU's float(pow(t, count)) or float((1 − t)·count), tabulated up to the largest count a
-    // pixel can reach: its centre count plus every edge of the class stepping once).
-    const uint32_t classes = static_cast<uint32_t>(fr.classes.size());
-    std::vector<int32_t> centre(size_t{classes} * na);
-    std::vector<int64_t> reach(classes, 0);
-    for (uint32_t j = 0; j < classes; ++j)
-      for (uint32_t a = 0; a < na; ++a) {
-        centre[size_t{j} * na + a] = fr.classes[j].centre_counts[active[a]];
-        reach[j] = std::max<int64_t>(reach[j], std::abs(centre[size_t{j} * na + a]));
-      }
-    for (const dcs::Edge& e : fr.edges.edges)
-      reach[e.layer_class] += std::max<int64_t>(e.centre_multiplicity, e.face_count);
-    int64_t table = 1;
-    for (uint32_t j = 1; j < classes; ++j) table = std::max(table, reach[j] + 1);
-    if (table > (int64_t{1} << 24))
-      throw Error("dcs on vulkan: semi-opaque depth complexity too large to tabulate");
-    std::vector<float> attenuation(size_t{classes} * table, 0.0f);
-    for (uint32_t j = 1; j < classes; ++j)
-      for (int64_t c = 0; c < table; ++c) {
-        const double t = fr.classes[j].transmittance;
-        attenuation[j * table + c] = options_.semi_opaque == DcsSemiOpaque::paper
-                                         ? static_cast<float>((1.0 - t) * static_cast<double>(c))
-                                         : static_cast<float>(std::pow(t, static_cast<int>(c)));
-      }
-    const uint64_t counter_count = uint64_t{classes} * n * na;
+    const Samples samples = samples_of(ctx);
+    const Classes classes = classes_of(fr, active, options_.semi_opaque);
+    const uint64_t counter_count = uint64_t{classes.count} * n * na;
     if (counter_count >= (uint64_t{1} << 31))
       throw Error("dcs on vulkan: " + std::to_string(counter_count) +
                   " counters (pixels × samples × layer classes) exceed 2^31; lower the "
                   "resolution or the sample count");
+    const Bins bins(fr.bw.bins);
+    const Bins stsv_bins(fr.stsv.empty() ? std::vector<std::vector<uint32_t>>{} : fr.stsv.bins);
+    const std::vector<PixelGpu> pixels = pixels_of(ctx, fr, active);
+    const Geometry geometry = geometry_of(fr);
+    const StsvData stsv = stsv_data(fr.stsv);
     out.times.add("gpu_setup_host", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
-    const Buffer pix_buf = vk.upload(pixels);
-    const Buffer wedge_buf = vk.upload(wedges);
-    const Buffer edge_buf = vk.upload(edges);
-    const Buffer face_buf = vk.upload(faces);
-    const Buffer begin_buf = vk.upload(bins.begin);
-    const Buffer entry_buf = vk.upload(bins.entries);
-    const Buffer stsv_begin_buf = vk.upload(stsv_bins.begin);
-    const Buffer stsv_entry_buf = vk.upload(stsv_bins.entries);
-    const Buffer stsv_tri_buf = vk.upload(stsv.tris);
-    const Buffer stsv_side_buf = vk.upload(stsv.sides);
-    const Buffer texel_buf = vk.upload(stsv.texels);
-    const Buffer sample_buf = vk.upload(sample_uv);
-    const Buffer band_buf = vk.upload(band_begin);
-    const Buffer centre_buf = vk.upload(centre);
-    const Buffer atten_buf = vk.upload(attenuation);
-    const Buffer emit_buf = vk.upload(emit_index);
-    const Buffer counters(vk, std::max<uint64_t>(counter_count, 1) * 4, Memory::device);
-    const Buffer state(vk, std::max<size_t>(na, 1) * 8, Memory::device);
-    const Buffer lit(vk, std::max<size_t>(na, 1) * 4, Memory::device);
     const uint32_t words = static_cast<uint32_t>((n + 31) / 32);
-    const Buffer masks(vk, std::max<size_t>(size_t{na} * words, 1) * 4, Memory::device);
-    const bool want_vis = light.is_textured();
-    const Buffer sample_vis(vk, want_vis ? std::max<size_t>(size_t{na} * n, 1) * 4 : 16,
-                            Memory::device);
+    const bool want_vis = ctx.light.is_textured();
+    const DeviceData d{
+        vk.upload(pixels),
+        vk.upload(geometry.wedges),
+        vk.upload(geometry.edges),
+        vk.upload(geometry.faces),
+        vk.upload(bins.begin),
+        vk.upload(bins.entries),
+        vk.upload(stsv_bins.begin),
+        vk.upload(stsv_bins.entries),
+        vk.upload(stsv.tris),
+        vk.upload(stsv.sides),
+        vk.upload(stsv.texels),
+        vk.upload(samples.uv),
+        vk.upload(samples.band_begin),
+        vk.upload(classes.centre),
+        vk.upload(classes.attenuation),
+        vk.upload(samples.emit_index),
+        Buffer(vk, std::max<uint64_t>(counter_count, 1) * 4, Memory::device),
+        Buffer(vk, std::max<size_t>(na, 1) * 8, Memory::device),
+        Buffer(vk, std::max<size_t>(na, 1) * 4, Memory::device),
+        Buffer(vk, std::max<size_t>(size_t{na} * words, 1) * 4, Memory::device),
+        Buffer(vk, want_vis ? std::max<size_t>(size_t{na} * n, 1) * 4 : 16, Memory::device)};
     out.times.add("wall_upload", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
-    Programs& programs = backend_.programs();
     if (na > 0) {
       CommandList cl(vk);
-      cl.fill(state, 0);
-      cl.fill(masks, 0);
-      cl.dispatch(programs.get(Shader::dcs_init),
-                  InitPush{centre_buf.address(), counters.address(), na, static_cast<uint32_t>(n),
+      const uint32_t un = static_cast<uint32_t>(n), k = static_cast<uint32_t>(ctx.samples.k());
+      cl.fill(d.state, 0);
+      cl.fill(d.masks, 0);
+      cl.dispatch(programs().get(Shader::dcs_init),
+                  InitPush{d.centre.address(), d.counters.address(), na, un,
                            static_cast<uint32_t>(counter_count)},
                   counter_count);
       cl.barrier();
       cl.mark("init");
       const uint32_t chunk = bin_chunk(vk, n);
       for (uint32_t first = 0; first < bins.longest; first += chunk) {
-        cl.dispatch(programs.get(Shader::dcs_edges),
-                    EdgesPush{pix_buf.address(), wedge_buf.address(), edge_buf.address(),
-                              face_buf.address(), begin_buf.address(), entry_buf.address(),
-                              sample_buf.address(), band_buf.address(), counters.address(),
-                              state.address(), na, static_cast<uint32_t>(n),
-                              static_cast<uint32_t>(ctx.samples.k()), first, chunk},
+        cl.dispatch(programs().get(Shader::dcs_edges),
+                    EdgesPush{d.pixels.address(), d.wedges.address(), d.edges.address(),
+                              d.faces.address(), d.bin_begin.address(), d.bin_entries.address(),
+                              d.samples.address(), d.band_begin.address(), d.counters.address(),
+                              d.state.address(), na, un, k, first, chunk},
                     na);
         cl.barrier();
       }
       cl.mark("edges");
       for (uint32_t first = 0; first < stsv_bins.longest; first += chunk) {
-        cl.dispatch(
-            programs.get(Shader::dcs_stsv),
-            StsvPush{pix_buf.address(), stsv_tri_buf.address(), stsv_side_buf.address(),
-                     stsv_begin_buf.address(), stsv_entry_buf.address(), texel_buf.address(),
-                     sample_buf.address(), band_buf.address(), counters.address(), state.address(),
-                     na, static_cast<uint32_t>(n), static_cast<uint32_t>(ctx.samples.k()), first,
-                     chunk, stsv::kMinInverseT},
-            na);
+        cl.dispatch(programs().get(Shader::dcs_stsv),
+                    StsvPush{d.pixels.address(), d.stsv_tris.address(), d.stsv_sides.address(),
+                             d.stsv_begin.address(), d.stsv_entries.address(), d.texels.address(),
+                             d.samples.address(), d.band_begin.address(), d.counters.address(),
+                             d.state.address(), na, un, k, first, chunk, stsv::kMinInverseT},
+                    na);
         cl.barrier();
       }
       if (stsv_bins.longest > 0) cl.mark("stsv");
-      cl.dispatch(
-          programs.get(Shader::dcs_finish),
-          FinishPush{centre_buf.address(), state.address(), counters.address(), atten_buf.address(),
-                     emit_buf.address(), lit.address(), masks.address(), sample_vis.address(), na,
-                     static_cast<uint32_t>(n), classes, static_cast<uint32_t>(table),
-                     options_.semi_opaque == DcsSemiOpaque::paper ? 1u : 0u, words,
-                     want_vis ? 1u : 0u},
-          na);
+      cl.dispatch(programs().get(Shader::dcs_finish),
+                  FinishPush{d.centre.address(), d.state.address(), d.counters.address(),
+                             d.attenuation.address(), d.emit_index.address(), d.lit.address(),
+                             d.masks.address(), d.sample_vis.address(), na, un, classes.count,
+                             classes.table, options_.semi_opaque == DcsSemiOpaque::paper ? 1u : 0u,
+                             words, want_vis ? 1u : 0u},
+                  na);
       cl.barrier();
       cl.mark("finish");
       cl.submit(&out.times);
@@ -367,51 +411,65 @@ class DcsVk final : public ShadowMethod {
     out.times.add("wall_gpu", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
-    const std::vector<float> lit_host = vk.download<float>(lit, na);
-    const std::vector<uint32_t> mask_words = vk.download<uint32_t>(masks, size_t{na} * words);
-    std::vector<int32_t> state_host;
-    std::vector<float> vis_host;
-    if (want_vis) {
-      state_host = vk.download<int32_t>(state, size_t{na} * 2);
-      vis_host = vk.download<float>(sample_vis, size_t{na} * n);
-    }
-    const Texture* emission =
-        want_vis ? &wedge_pass::emission_texture(ctx.scene, light, "dcs") : nullptr;
-    for (uint32_t a = 0; a < na; ++a) {
-      const uint32_t i = active[a];
-      out.lit[i] = lit_host[a];
-      if (out.masks) {
-        uint64_t* m = out.masks->pixel(i);
-        for (uint32_t w = 0; w < words; ++w)
-          m[w >> 1] |= uint64_t{mask_words[size_t{a} * words + w]} << (32 * (w & 1));
-      }
-      if (!emission) continue;
-      if (state_host[2 * a] != 2) {  // uniform: every sample has the same visibility
-        (*out.lit_rgb)[i] = Vec3(lit_host[a]);
-        continue;
-      }
-      const LightFrame frame = light_frame(light, g.shadow_origin(i));
-      const SampleWeights w =
-          accumulate_sample_weights(frame, emission, light.radiance, ss.uv,
-                                    std::span<const float>(vis_host.data() + size_t{a} * n, n));
-      (*out.lit_rgb)[i] = w.visible_fraction_rgb();
-      out.lit[i] = w.visible_fraction();
-    }
+    read_back(ctx, d, active, samples.set, out);
     out.times.add("wall_readback", elapsed_ms(t0));
 
-    Counters& k = out.counters;
-    k["silhouette_edges"] = static_cast<double>(fr.edges.edges.size());
-    k["straddling_edges"] = static_cast<double>(fr.edges.straddling);
-    k["wedges"] = static_cast<double>(fr.bw.wedges.size());
-    k["tile_bin_entries"] = static_cast<double>(bins.entries.size());
-    k["stsv_triangles"] = static_cast<double>(fr.stsv.triangles.size());
-    k["layer_classes"] = static_cast<double>(classes);
-    k["alpha_textured_as_opaque"] = static_cast<double>(fr.alpha_triangles);
-    k["active_pixels"] = static_cast<double>(na);
+    Counters& c = out.counters;
+    c["silhouette_edges"] = static_cast<double>(fr.edges.edges.size());
+    c["straddling_edges"] = static_cast<double>(fr.edges.straddling);
+    c["wedges"] = static_cast<double>(fr.bw.wedges.size());
+    c["tile_bin_entries"] = static_cast<double>(bins.entries.size());
+    c["stsv_triangles"] = static_cast<double>(fr.stsv.triangles.size());
+    c["layer_classes"] = static_cast<double>(classes.count);
+    c["alpha_textured_as_opaque"] = static_cast<double>(fr.alpha_triangles);
+    c["active_pixels"] = static_cast<double>(na);
     return out;
   }
 
  private:
+  Programs& programs() { return backend_.programs(); }
+
+  /// V and the masks into `out`; a textured light's RGB weighting (eq. 4.2) from the per-sample
+  /// visibility, as the CPU's Sampler::finish does, for the pixels that were not uniform.
+  void read_back(const ShadowContext& ctx, const DeviceData& d, const std::vector<uint32_t>& active,
+                 const dcs::SampleSet& ss, Visibility& out) {
+    VulkanContext& vk = backend_.context();
+    const size_t na = active.size();
+    const int n = ctx.samples.count();
+    const uint32_t words = static_cast<uint32_t>((n + 31) / 32);
+    const std::vector<float> lit = vk.download<float>(d.lit, na);
+    const std::vector<uint32_t> mask_words = vk.download<uint32_t>(d.masks, na * words);
+    const Texture* emission = ctx.light.is_textured()
+                                  ? &wedge_pass::emission_texture(ctx.scene, ctx.light, "dcs")
+                                  : nullptr;
+    std::vector<int32_t> state;
+    std::vector<float> vis;
+    if (emission) {
+      state = vk.download<int32_t>(d.state, na * 2);
+      vis = vk.download<float>(d.sample_vis, na * n);
+    }
+    for (size_t a = 0; a < na; ++a) {
+      const uint32_t i = active[a];
+      out.lit[i] = lit[a];
+      if (out.masks) {
+        uint64_t* m = out.masks->pixel(i);
+        for (uint32_t w = 0; w < words; ++w)
+          m[w >> 1] |= uint64_t{mask_words[a * words + w]} << (32 * (w & 1));
+      }
+      if (!emission) continue;
+      if (state[2 * a] != 2) {  // uniform: every sample has the same visibility
+        (*out.lit_rgb)[i] = Vec3(lit[a]);
+        continue;
+      }
+      const LightFrame frame = light_frame(ctx.light, ctx.gbuffer.shadow_origin(i));
+      const SampleWeights w =
+          accumulate_sample_weights(frame, emission, ctx.light.radiance, ss.uv,
+                                    std::span<const float>(vis.data() + a * n, n));
+      (*out.lit_rgb)[i] = w.visible_fraction_rgb();
+      out.lit[i] = w.visible_fraction();
+    }
+  }
+
   Backend& backend_;
   DcsOptions options_;
 };
