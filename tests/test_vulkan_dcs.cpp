@@ -155,6 +155,17 @@ TEST(VulkanDcs, SemiOpaqueOccluders) {
   check_frame(backend, t, "semi-opaque paper", {{"semi_opaque", "paper"}}, false, 0);
 }
 
+/// A semi-opaque alpha-textured fence (`default`): its S-triangles step their own layer class.
+TEST(VulkanDcs, SemiOpaqueTexturedOccluder) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  Scene scene = make_builtin_scene("default");
+  for (Material& m : scene.materials)
+    if (m.alpha_texture >= 0) m.transmittance = 0.5f;
+  const auto t = make_test_frame(std::move(scene), 40, 40, grid_samples(8));
+  check_frame(backend, t, "semi-opaque fence", {}, false);
+  EXPECT_EQ(test::run_vulkan(backend, t, "dcs").per_light[0].counters.at("layer_classes"), 2.0);
+}
+
 TEST(VulkanDcs, ReportsGpuStageTimes) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   const test::TestFrame t = make_test_frame("spheres", 32, 32, grid_samples(4));
