@@ -20,6 +20,7 @@
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
+#include "penumbra/gpu/wedge_data.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/light_weights.hpp"
@@ -35,14 +36,6 @@ namespace {
 using dcs::Frame;
 
 // shaders/dcs.glsl layouts (scalar).
-struct WedgeGpu {
-  double planes[kMaxWedgePlanes][4];
-  double e0[3], e1[3];
-  double tolerance;
-  int32_t plane_count;
-  uint32_t edge;
-};
-static_assert(sizeof(WedgeGpu) == 576);
 struct EdgeGpu {
   int32_t centre_multiplicity;
   uint32_t face_begin, face_count, layer_class;
@@ -93,10 +86,6 @@ struct FinishPush {
 static_assert(sizeof(EdgesPush) <= kPushBytes && sizeof(StsvPush) <= kPushBytes &&
               sizeof(FinishPush) <= kPushBytes);
 
-void put3(double* out, const DVec3& v) {
-  out[0] = v.x, out[1] = v.y, out[2] = v.z;
-}
-
 /// Bin entries one dispatch of dcs_edges walks per pixel. llvmpipe stops any invocation after
 /// 65535 loop iterations in all (its guard against endless loops): an entry costs up to ~20 (faces
 /// and planes) plus one per sample of its band range. Other devices walk the whole bin at once.
@@ -104,33 +93,6 @@ uint32_t bin_chunk(const VulkanContext& vk, int samples) {
   if (vk.info().type != "cpu") return UINT32_MAX / 2;
   return std::max<uint32_t>(1, 60000u / static_cast<uint32_t>(samples + 32));
 }
-
-WedgeGpu to_gpu(const Wedge& src, uint32_t edge) {
-  WedgeGpu dst{};
-  for (int p = 0; p < src.plane_count; ++p) {
-    put3(dst.planes[p], src.planes[p].n);
-    dst.planes[p][3] = src.planes[p].d;
-  }
-  put3(dst.e0, src.e0), put3(dst.e1, src.e1);
-  dst.tolerance = src.tolerance;
-  dst.plane_count = src.plane_count;
-  dst.edge = edge;
-  return dst;
-}
-
-/// Per-tile bins as CSR: entries of tile t are entries[begin[t], begin[t + 1]).
-struct Bins {
-  std::vector<uint32_t> begin{0}, entries;
-  uint32_t longest = 0;
-  explicit Bins(const std::vector<std::vector<uint32_t>>& bins) {
-    for (const std::vector<uint32_t>& bin : bins) {
-      entries.insert(entries.end(), bin.begin(), bin.end());
-      begin.push_back(static_cast<uint32_t>(entries.size()));
-      longest = std::max(longest, static_cast<uint32_t>(bin.size()));
-    }
-    if (begin.size() == 1) begin.push_back(0);
-  }
-};
 
 /// The S-triangles, their volume sides (two per triangle) and the alpha textures as bits
 /// (alpha ≥ kAlphaCutoff: the texel blocks).

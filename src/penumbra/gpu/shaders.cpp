@@ -86,6 +86,9 @@ const uint32_t kDcsStsv[] = {
 const uint32_t kDcsFinish[] = {
 #include "dcs_finish.comp.inc"
 };
+const uint32_t kWedgesPass2[] = {
+#include "wedges_pass2.comp.inc"
+};
 const uint32_t kSsmBlend[] = {
 #include "ssm_blend.comp.inc"
 };
@@ -150,6 +153,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDcsFinish;
     case Shader::ssm_blend:
       return kSsmBlend;
+    case Shader::wedges_pass2:
+      return kWedgesPass2;
     case Shader::count_:
       break;
   }

@@ -38,6 +38,7 @@ enum class Shader {
   dcs_stsv,
   dcs_finish,
   ssm_blend,
+  wedges_pass2,
   count_
 };
 
