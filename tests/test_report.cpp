@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/pipeline/frame.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/report/report.hpp"
@@ -24,6 +25,22 @@ std::string read_text(const fs::path& p) {
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+/// `method` with its default options on `quad` at the report's 48×40, K×K grid samples: the
+/// pipeline's own numbers, to check the report's against.
+MethodResult quad_run(const std::string& method, int k, std::unique_ptr<Frame>& frame) {
+  static const Scene quad = [] {
+    Scene s = make_builtin_scene("quad");
+    s.camera.width = 48;
+    s.camera.height = 40;
+    return s;
+  }();
+  LightSampleSpec samples;
+  samples.k = k;
+  frame = std::make_unique<Frame>(quad, samples);
+  const MethodInfo& info = MethodRegistry::builtin().get(method);
+  return frame->run(info, resolve_options(info, {}), false);
 }
 
 report::ReportSpec small_spec(const fs::path& out) {
@@ -85,19 +102,24 @@ TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
       EXPECT_GT(m["times_ms"]["total"].get<double>(), 0.0);
       EXPECT_TRUE(m.contains("frame"));
     }
+    // The rays raytrace traces per pixel in each method's time [Wang 2014 Table 11]: its own 16
+    // samples in its own time.
+    const auto& rt = scene["methods"][1];
+    ASSERT_EQ(rt["method"], "raytrace");
+    EXPECT_DOUBLE_EQ(rt["equal_time_rays"].get<double>(), 16.0);
+    const auto& pcss = scene["methods"][2];
+    EXPECT_NEAR(
+        pcss["equal_time_rays"].get<double>(),
+        16.0 * pcss["times_ms"]["total"].get<double>() / rt["times_ms"]["total"].get<double>(),
+        1e-6 * pcss["equal_time_rays"].get<double>());
   }
   // The report's numbers are the pipeline's: raytrace on quad, recomputed directly.
-  Scene quad = make_builtin_scene("quad");
-  quad.camera.width = 48;
-  quad.camera.height = 40;
-  LightSampleSpec samples;
-  samples.k = 4;
-  const Frame frame(quad, samples);
-  const MethodInfo& exact = MethodRegistry::builtin().get("exact");
-  const MethodInfo& rt = MethodRegistry::builtin().get("raytrace");
-  const MethodResult e = frame.run(exact, resolve_options(exact, {}), false);
-  const MethodResult r = frame.run(rt, resolve_options(rt, {}), false);
-  const ErrorStats direct = compare_results(frame, e, r);
+  std::unique_ptr<Frame> frame;
+  const MethodResult e = quad_run("exact", 4, frame);
+  const MethodResult r =
+      frame->run(MethodRegistry::builtin().get("raytrace"),
+                 resolve_options(MethodRegistry::builtin().get("raytrace"), {}), false);
+  const ErrorStats direct = compare_results(*frame, e, r);
   const auto& reported = j["scenes"][0]["methods"][1]["error_vs_exact"];
   EXPECT_DOUBLE_EQ(reported["mean_abs_shadowed"].get<double>(), direct.mean_abs_shadowed);
   EXPECT_DOUBLE_EQ(reported["max_abs"].get<double>(), direct.max_abs);
@@ -110,6 +132,60 @@ TEST(Report, EveryMethodAndSceneHasItsImagesRowsAndTheNumbersOfThePipeline) {
   for (const char* m : {"raytrace", "pcss"})
     EXPECT_EQ(sweep["methods"][m]["mean_abs_shadowed"].size(), 4u) << m;
   EXPECT_NE(html.find("Sweep: light_size"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// Where `exact` is too slow (foliage, fragmented geometry), the reference is `raytrace` with more
+// samples, on a frame of its own; every number is then against it, and `exact` is not run.
+TEST(Report, RayTracedReferenceReplacesExact) {
+  const fs::path out = fs::temp_directory_path() / "penumbra_test_report_rt";
+  fs::remove_all(out);
+  report::ReportSpec spec = small_spec(out);
+  spec.scenes = {"quad"};
+  spec.sweeps = {};
+  spec.methods.erase(spec.methods.begin());  // no exact
+  spec.options.erase(spec.options.begin());
+  const MethodInfo& gears = MethodRegistry::builtin().get("gears");
+  spec.methods.push_back(&gears);
+  spec.options.push_back(resolve_options(gears, {}));
+  spec.reference = "raytrace";
+  spec.reference_k = 16;
+  report::write_report(spec);
+  const nlohmann::json j = nlohmann::json::parse(read_text(out / "report.json"));
+  EXPECT_EQ(j["reference"], "raytrace 16×16");
+  const auto& methods = j["scenes"][0]["methods"];
+  ASSERT_EQ(methods.size(), 4u);  // the reference, raytrace, pcss, gears
+  EXPECT_EQ(methods[0]["method"], "raytrace");
+  EXPECT_EQ(methods[0]["samples"]["count"], 256);
+  EXPECT_TRUE(fs::exists(out / "quad" / "raytrace_16x16.png"));
+  for (size_t m = 1; m < methods.size(); ++m) {
+    EXPECT_FALSE(methods[m].contains("error_vs_exact"));
+    ASSERT_TRUE(methods[m].contains("error_vs_reference")) << methods[m]["method"];
+  }
+  // The numbers are the pipeline's: 4×4 gears against 16×16 raytrace, recomputed directly.
+  std::unique_ptr<Frame> reference_frame, frame;
+  const MethodResult ref = quad_run("raytrace", 16, reference_frame);
+  const MethodResult g = quad_run("gears", 4, frame);
+  const ErrorStats direct = compare_results(*frame, ref, g);
+  EXPECT_DOUBLE_EQ(methods[3]["error_vs_reference"]["mean_abs_shadowed"].get<double>(),
+                   direct.mean_abs_shadowed);
+  // gears equals raytrace on the same samples, so both rows carry the same error (measured 0.0471:
+  // 16 samples against 256).
+  EXPECT_DOUBLE_EQ(methods[1]["error_vs_reference"]["mean_abs_shadowed"].get<double>(),
+                   direct.mean_abs_shadowed);
+  EXPECT_NEAR(direct.mean_abs_shadowed, 0.0471, 0.003);
+  const std::string md = read_text(out / "results.md");
+  EXPECT_NE(md.find("Errors are against `raytrace 16×16`"), std::string::npos);
+  EXPECT_NE(md.find("| raytrace_16x16 | "), std::string::npos);
+  EXPECT_NE(md.find("(reference)"), std::string::npos);
+
+  spec.reference_k = 4;  // the methods' own samples: the sample-exact ones have no error at all
+  report::write_report(spec);
+  const nlohmann::json same = nlohmann::json::parse(read_text(out / "report.json"));
+  for (int m : {1, 3})
+    EXPECT_EQ(same["scenes"][0]["methods"][m]["error_vs_reference"]["max_abs"].get<double>(), 0.0);
+  spec.reference = "path_trace";
+  EXPECT_THROW(report::write_report(spec), Error);
   fs::remove_all(out);
 }
 

@@ -121,6 +121,13 @@ TEST(SceneClasses, MasksEqualRaytraceOnNest) {
   expect_sample_exact_masks(make_nest_scene(kSceneClassSeed, 1500));
 }
 
+// gears alone on the built-in nest (120 000 twig triangles): every mismatch a numerical tie.
+TEST(SceneClasses, GearsMasksEqualRaytraceOnTheFullNest) {
+  const test::TestFrame t =
+      test::make_test_frame(make_builtin_scene("nest"), 32, 32, test::grid_samples(2));
+  test::expect_equal_masks(test::compare_masks(t, "gears"), 50);
+}
+
 TEST(SceneClasses, MasksEqualRaytraceOnGarden) {
   expect_sample_exact_masks(make_garden_scene(kSceneClassSeed, 5));
 }

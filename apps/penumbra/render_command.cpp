@@ -328,7 +328,7 @@ void run_render(const RenderArgs& args) {
     write_json(dir / "stats.json", stats);
     if (m + 1 == methods.size()) last_frame = stats["frame"];
 
-    rows.push_back({result.method, result.total_ms, error, ""});
+    rows.push_back({result.method, result.total_ms, error, "", result.method == "exact"});
     if (result.method == "exact") exact = std::move(result);
   }
   if (several) {

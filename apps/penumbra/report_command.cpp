@@ -21,6 +21,8 @@ struct ReportArgs {
   std::vector<std::string> sets;
   std::vector<std::string> sweeps;
   double error_scale = 0.0;
+  std::string reference = "exact";
+  int reference_samples = 64;
   std::string out;
 };
 
@@ -35,6 +37,9 @@ std::string command_line(const ReportArgs& a) {
   for (const std::string& s : a.sets) c += " --set " + s;
   for (const std::string& s : a.sweeps) c += " --sweep " + s;
   if (a.error_scale > 0.0) c += " --error-scale " + std::to_string(a.error_scale);
+  if (a.reference != "exact")
+    c += " --reference " + a.reference + " --reference-samples " +
+         std::to_string(a.reference_samples);
   return c + " --out " + a.out;
 }
 
@@ -53,6 +58,8 @@ void run_report(const ReportArgs& args) {
   spec.samples.seed = args.seed;
   spec.sweeps = args.sweeps;
   spec.error_scale = args.error_scale;
+  spec.reference = args.reference;
+  spec.reference_k = args.reference_samples;
   spec.command_line = command_line(args);
   spec.out_dir = args.out;
   const std::filesystem::path index = report::write_report(spec);
@@ -69,7 +76,7 @@ void add_report_command(CLI::App& app) {
                   "Scene: built-in name, scene .json or model file (repeatable)")
       ->required();
   cmd->add_option("--method", args->methods,
-                  "Method name (repeatable) or 'all'; exact is always run")
+                  "Method name (repeatable) or 'all'; exact is always run when it is the reference")
       ->required();
   cmd->add_option("--samples", args->samples, "K: K×K light samples per pixel (1 = light centre)")
       ->check(CLI::Range(1, 64))
@@ -89,6 +96,15 @@ void add_report_command(CLI::App& app) {
                   "Error at the top of every error map's colour scale (default: per scene, the "
                   "median over the methods of their 99th-percentile error)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--reference", args->reference,
+                  "What errors are measured against: exact (the analytic integral) or raytrace "
+                  "(Embree with --reference-samples², for scenes where exact is too slow)")
+      ->check(CLI::IsMember({"exact", "raytrace"}))
+      ->capture_default_str();
+  cmd->add_option("--reference-samples", args->reference_samples,
+                  "K: the raytrace reference's K×K light samples (same pattern and seed)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "Output folder (index.html, report.json, results.md)")
       ->required();
   cmd->callback([args] { run_report(*args); });

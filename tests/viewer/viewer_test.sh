@@ -5,7 +5,9 @@
 #    for exact, gears and pcss;
 #  - in the visibility view the image shows V exactly, two light positions' screenshots differ
 #    where V changed and only there, and the panel beside the image is drawn;
-#  - the error, signed-error and split views and `set` run; bad input is one line and exit 1.
+#  - the error, signed-error and split views and `set` run; the error against a ray-traced
+#    reference is 0 on the method's own samples; --backend vulkan gives render's GPU frame; bad
+#    input is one line and exit 1.
 # Exits 77 (ctest: skipped) without xvfb-run.
 #   viewer_test.sh PENUMBRA_BINARY VIEWER_PROBE OUTPUT_DIR
 set -uo pipefail
@@ -126,7 +128,47 @@ view views.log --scene quad --method gears --script views.txt ||
   fail "the views script failed: $(cat views.log)"
 grep -q "first frame showing each" views.log || fail "no latency summary: $(cat views.log)"
 
-# 5. Bad input: one line, exit 1.
+# 5. A ray-traced reference for the error views: on the method's own samples gears has no error at
+#    all (the same masks as raytrace); against 16×16 samples it has the sampling error of 4×4.
+printf 'view error\nwait\nsave_error err.json\n' >rtref.txt
+for k in 4 16; do
+  if view "rtref_$k.log" --scene quad --method gears --reference raytrace --reference-samples "$k" \
+    --script rtref.txt; then
+    mv err.json "err_$k.json"
+    grep -q '"reference": "raytrace '"$k"'×'"$k"'"' "err_$k.json" ||
+      fail "save_error does not name the reference: $(cat "err_$k.json")"
+  else
+    fail "the ray-traced reference script failed: $(cat "rtref_$k.log")"
+  fi
+done
+err_field() { sed -n 's/.*"'"$2"'": \([^,]*\),*$/\1/p' "$1"; }
+awk -v d="$(err_field err_4.json max_abs)" 'BEGIN { exit !(d != "" && d == 0) }' ||
+  fail "gears against raytrace on the same samples: max |dV| = $(err_field err_4.json max_abs)"
+awk -v d="$(err_field err_16.json mean_abs)" 'BEGIN { exit !(d > 1e-3) }' ||
+  fail "gears 4x4 against raytrace 16x16: mean |dV| = $(err_field err_16.json mean_abs)"
+
+# 6. --backend vulkan (where a Vulkan device exists, lavapipe included): the GPU method's frame
+#    after the edits is what `render --backend vulkan` computes from the saved scene.
+if "$bin" render --scene quad --size 8x8 --method gears --backend vulkan --out vk_probe \
+  >vk_probe.log 2>&1; then
+  if view vk.log --scene quad --method gears --backend vulkan --script edit_gears.txt; then
+    "$bin" render --scene scene_gears.json --method gears --samples 4 --backend vulkan \
+      --out render_vk >render_vk.log 2>&1 || fail "vulkan render failed: $(cat render_vk.log)"
+    d="$(max_abs view_gears.exr render_vk/visibility.exr)"
+    echo "vulkan gears: max |V_view - V_render| = $d"
+    awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 1e-6) }' || fail "vulkan: max |dV| = '$d' > 1e-6"
+  else
+    fail "the viewer on vulkan failed: $(cat vk.log)"
+  fi
+  "$bin" view --scene quad --method exact --backend vulkan >vk_exact.log 2>&1
+  code=$?
+  grep -q "method 'exact' has no Vulkan implementation" vk_exact.log && [ "$code" -eq 1 ] ||
+    fail "exact on vulkan: expected one error line, exit 1; got exit $code: $(cat vk_exact.log)"
+else
+  echo "vulkan: no device, skipped"
+fi
+
+# 7. Bad input: one line, exit 1.
 expect_error() {  # expect_error PATTERN LOG: exit 1 and one 'penumbra: error:' line matching
   local code="$1" pattern="$2" log="$3"
   if [ "$code" -ne 1 ] || [ "$(wc -l <"$log")" -ne 1 ] || ! grep -q "penumbra: error: .*$pattern" "$log"; then
@@ -139,6 +181,9 @@ expect_error $? "unknown.txt':2: unknown command 'zoom'" unknown.log
 printf 'set nonsense=1\n' >badset.txt
 view badset.log --scene quad --method gears --script badset.txt
 expect_error $? "badset.txt':1: method 'gears' has no option 'nonsense'" badset.log
+printf 'light 1\n' >badlight.txt
+view badlight.log --scene quad --method gears --script badlight.txt
+expect_error $? "badlight.txt':1: light: the scene's lights are 0 to 0, not 1" badlight.log
 env -u DISPLAY -u WAYLAND_DISPLAY "$bin" view --scene quad >nodisplay.log 2>&1
 expect_error $? "no display" nodisplay.log
 

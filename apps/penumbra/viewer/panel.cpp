@@ -116,11 +116,10 @@ void Viewer::draw_image() {
 
 void Viewer::method_panel() {
   if (!ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const MethodRegistry& registry = MethodRegistry::builtin();
   if (ImGui::BeginCombo("method", state_.method.c_str())) {
-    for (const MethodInfo& m : registry.methods()) {
-      if (ImGui::Selectable(m.name.c_str(), m.name == state_.method)) choose_method(m.name);
-      tooltip(m.summary + " " + m.reference);
+    for (const MethodInfo* m : methods_->listed()) {
+      if (ImGui::Selectable(m->name.c_str(), m->name == state_.method)) choose_method(m->name);
+      tooltip(m->summary + " " + m->reference);
     }
     ImGui::EndCombo();
   }
@@ -208,9 +207,9 @@ void Viewer::view_panel() {
   if (mode_ == ViewMode::split)
     for (int i = 0; i < 2; ++i)
       if (ImGui::BeginCombo(i == 0 ? "left" : "right", split_[i].c_str())) {
-        for (const MethodInfo& m : MethodRegistry::builtin().methods())
-          if (ImGui::Selectable(m.name.c_str(), m.name == split_[i])) {
-            split_[i] = m.name;
+        for (const MethodInfo* m : methods_->listed())
+          if (ImGui::Selectable(m->name.c_str(), m->name == split_[i])) {
+            split_[i] = m->name;
             split_changed = true;
           }
         ImGui::EndCombo();
@@ -240,8 +239,9 @@ void Viewer::stats_panel() {
   ImGui::Text("latency %.0f ms (edit to shown)",
               std::chrono::duration<double, std::milli>(s.finished - s.job.submitted).count());
   if (picture_info_.error)
-    ImGui::Text("vs exact: mean %.2e  max %.3f  rmse %.2e", picture_info_.error->mean_abs,
-                picture_info_.error->max_abs, picture_info_.error->rmse);
+    ImGui::Text("vs %s: mean %.2e  max %.3f  rmse %.2e", reference_label(args_).c_str(),
+                picture_info_.error->mean_abs, picture_info_.error->max_abs,
+                picture_info_.error->rmse);
   if (!ImGui::CollapsingHeader("Stages and counters")) return;
   for (const MethodResult& r : s.results)
     for (size_t l = 0; l < r.per_light.size(); ++l) {

@@ -1,5 +1,6 @@
 // The script's commands, run by the UI loop between frames: each returns false to be asked again
 // on the next frame (a `wait` for the final frame, a `sleep`), true when it is done.
+#include <cmath>
 #include <thread>
 
 #include "penumbra/core/error.hpp"
@@ -34,7 +35,7 @@ bool Viewer::run_command(const ScriptCommand& c) {
   LightEdit& light = state_.lights[static_cast<size_t>(light_)];
   switch (c.op) {
     case ScriptOp::method:
-      MethodRegistry::builtin().get(c.words[0]);  // unknown → Error listing the names
+      methods_->get(c.words[0]);  // unknown, or no GPU path → Error listing the names
       choose_method(c.words[0]);
       return true;
     case ScriptOp::set: {
@@ -76,7 +77,7 @@ bool Viewer::run_command(const ScriptCommand& c) {
     case ScriptOp::view: {
       const ViewMode mode = *parse_view_mode(c.words[0]);
       if (mode == ViewMode::split) {
-        for (int i = 0; i < 2; ++i) MethodRegistry::builtin().get(c.words[1 + i]);
+        for (int i = 0; i < 2; ++i) methods_->get(c.words[1 + i]);
         split_[0] = c.words[1];
         split_[1] = c.words[2];
       }
@@ -107,6 +108,19 @@ bool Viewer::run_command(const ScriptCommand& c) {
       if (!at_final_frame()) return false;
       save_scene(c.words[0]);
       return true;
+    case ScriptOp::save_error:
+      if (!at_final_frame()) return false;
+      save_error(c.words[0]);
+      return true;
+    case ScriptOp::light: {
+      const double n = c.numbers[0];
+      if (n != std::floor(n) || n < 0 || n >= static_cast<double>(state_.lights.size()))
+        throw Error("light: the scene's lights are 0 to " +
+                    std::to_string(state_.lights.size() - 1) + ", not " + c.words[0]);
+      light_ = static_cast<int>(n);
+      picture_dirty_ = true;  // the visibility and error views show the light edited
+      return true;
+    }
     case ScriptOp::quit:
       quit_ = true;
       return true;

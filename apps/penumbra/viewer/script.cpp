@@ -36,6 +36,8 @@ const std::map<std::string, Syntax>& syntax() {
       {"screenshot", {ScriptOp::screenshot, 1, 1, 0, "screenshot PATH.png"}},
       {"save_visibility", {ScriptOp::save_visibility, 1, 1, 0, "save_visibility PATH.exr"}},
       {"save_scene", {ScriptOp::save_scene, 1, 1, 0, "save_scene PATH.json"}},
+      {"save_error", {ScriptOp::save_error, 1, 1, 0, "save_error PATH.json"}},
+      {"light", {ScriptOp::light, 1, 1, 1, "light N"}},
       {"quit", {ScriptOp::quit, 0, 0, 0, "quit"}},
   };
   return table;

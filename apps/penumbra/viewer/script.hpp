@@ -25,6 +25,8 @@ enum class ScriptOp {
   screenshot,       // screenshot PATH.png
   save_visibility,  // save_visibility PATH.exr
   save_scene,       // save_scene PATH.json
+  save_error,       // save_error PATH.json (the error views' numbers against the reference)
+  light,            // light N (the light the light_* commands edit, from 0)
   quit,
 };
 

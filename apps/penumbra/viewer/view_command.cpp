@@ -20,9 +20,11 @@ void run_view(ViewArgs& args) {
   Scene scene = load_scene(args.viewer.scene, to_framing(args.framing));
   if (!args.viewer.size.empty()) parse_size(args.viewer.size, scene.camera);
   parse_pattern(args.viewer.pattern);
-  const std::vector<const MethodInfo*> methods = selected_methods({args.viewer.method});
-  if (methods.size() != 1) throw Error("view: --method takes one method, not 'all'");
-  args.viewer.method = methods.front()->name;
+  if (!args.viewer.method.empty()) {
+    const std::vector<const MethodInfo*> methods = selected_methods({args.viewer.method});
+    if (methods.size() != 1) throw Error("view: --method takes one method, not 'all'");
+    args.viewer.method = methods.front()->name;
+  }
   for (const auto& [method, values] : parse_sets(args.sets)) {
     resolve_options(MethodRegistry::builtin().get(method), values);  // bad value → Error
     args.viewer.options[method] = values;
@@ -41,7 +43,14 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--scene", args->viewer.scene,
                   "Built-in scene name, scene .json file or model file (OBJ, PLY, glTF, ...)")
       ->required();
-  cmd->add_option("--method", args->viewer.method, "The method shown first");
+  cmd->add_option("--method", args->viewer.method,
+                  "The method shown first (default: exact; with --backend vulkan, gears)");
+  cmd->add_option("--backend", args->viewer.backend,
+                  "Where the methods run: cpu, or vulkan (those with a Vulkan path; the reference "
+                  "stays on the CPU)")
+      ->check(CLI::IsMember({"cpu", "vulkan"}));
+  cmd->add_option("--vk-device", args->viewer.vk_device,
+                  "Vulkan device: index or name substring (as for render)");
   cmd->add_option("--size", args->viewer.size, "Full image size WxH (overrides the scene's)");
   cmd->add_option("--samples", args->viewer.samples,
                   "K: K×K light samples per pixel (1 = light centre)")
@@ -60,6 +69,13 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--settle-ms", args->viewer.settle_ms,
                   "Milliseconds without an edit after which the full-size frame is computed")
       ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--reference", args->viewer.reference,
+                  "What the error views compare against: exact, or raytrace with "
+                  "--reference-samples² samples (for scenes where exact is too slow)")
+      ->check(CLI::IsMember({"exact", "raytrace"}));
+  cmd->add_option("--reference-samples", args->viewer.reference_samples,
+                  "K: the raytrace reference's K×K light samples")
+      ->check(CLI::Range(1, 64));
   cmd->add_flag("--trace", args->viewer.trace,
                 "Print one line per frame shown: where its time went, and its latency");
   add_framing_options(*cmd, args->framing);

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/scene/scene_writer.hpp"
@@ -61,8 +62,10 @@ std::string LatencyLog::summary() const {
   return line;
 }
 
-Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script)
+Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script,
+               std::shared_ptr<const ViewerMethods> methods)
     : args_(args),
+      methods_(std::move(methods)),
       base_(std::make_shared<const Scene>(std::move(scene))),
       state_(*base_, args.method, LightSampleSpec{}),
       window_(
@@ -83,7 +86,7 @@ Viewer::Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> s
   state_.samples.k = args.samples;
   state_.samples.seed = args.seed;
   state_.samples.pattern = *parse_sample_pattern(args.pattern);
-  split_[0] = "exact";
+  split_[0] = methods_->gpu() ? methods_->listed().front()->name : "exact";
   split_[1] = args.method;
   last_edit_ = Clock::now() - std::chrono::hours(1);
 }
@@ -94,6 +97,16 @@ void Viewer::edited() {
   state_.changed();
   last_edit_ = Clock::now();
   latency_.edited(state_.generation);
+}
+
+std::string reference_label(const ViewerArgs& args) {
+  if (args.reference == "exact") return "exact";
+  const std::string k = std::to_string(args.reference_samples);
+  return "raytrace " + k + "×" + k;
+}
+
+bool Viewer::method_is_reference() const {
+  return args_.reference == "exact" && state_.method == "exact";
 }
 
 RenderJob Viewer::make_job(bool preview, bool reference) const {
@@ -116,13 +129,14 @@ RenderJob Viewer::make_job(bool preview, bool reference) const {
   job.samples = state_.samples;
   std::vector<std::string> names{state_.method};
   if (reference) {
-    names = {"exact"};
+    names = {args_.reference};
+    if (args_.reference == "raytrace") job.samples.k = args_.reference_samples;
     job.shade = false;
   } else if (mode_ == ViewMode::split) {
     names = {split_[0], split_[1]};
   }
   for (const std::string& name : names) {
-    const MethodInfo& info = registry.get(name);
+    const MethodInfo& info = reference ? registry.get(name) : methods_->get(name);
     const auto it = state_.options.find(name);
     job.methods.push_back(&info);
     job.options.push_back(resolve_options(
@@ -136,8 +150,7 @@ void Viewer::schedule() {
   const uint64_t g = state_.generation;
   const bool still = script_waiting_ || args_.preview_divisor <= 1 ||
                      ms_between(last_edit_, Clock::now()) >= args_.settle_ms;
-  // The reference is the method itself when the method is `exact`.
-  const bool reference = needs_reference(mode_) && state_.method != "exact";
+  const bool reference = needs_reference(mode_) && !method_is_reference();
   const uint64_t reference_key = 2 * g + (still ? 0 : 1);
   try {
     if (!still && preview_sent_ != g) {
@@ -201,8 +214,8 @@ void Viewer::collect() {
 
 void Viewer::refresh_picture() {
   if (!picture_dirty_ || !shown_) return;
-  const bool self_reference =
-      shown_->results.size() == 1 && shown_->results.front().method == "exact";
+  const bool self_reference = args_.reference == "exact" && shown_->results.size() == 1 &&
+                              shown_->results.front().method == "exact";
   const RenderOutput* reference = self_reference ? shown_.get() : reference_.get();
   window_.set_image(make_picture(mode_, light_, *shown_, reference, picture_info_));
   picture_dirty_ = false;
@@ -211,7 +224,7 @@ void Viewer::refresh_picture() {
 bool Viewer::frame_is_final() const {
   const uint64_t g = state_.generation;
   if (!shown_ || shown_->job.generation != g || shown_->job.preview || picture_dirty_) return false;
-  if (needs_reference(mode_) && state_.method != "exact")
+  if (needs_reference(mode_) && !method_is_reference())
     return reference_ && reference_->job.generation == g && !reference_->job.preview;
   return true;
 }
@@ -223,6 +236,14 @@ void Viewer::save_visibility(const std::filesystem::path& path) const {
 
 void Viewer::save_scene(const std::filesystem::path& path) const {
   write_scene_file(*shown_->scene, path);
+}
+
+void Viewer::save_error(const std::filesystem::path& path) const {
+  if (!picture_info_.error) throw Error("save_error: no error to save (in the error views only)");
+  nlohmann::json j = to_json(*picture_info_.error);
+  j["method"] = state_.method;
+  j["reference"] = reference_label(args_);
+  write_text_file(path, j.dump(2) + "\n");
 }
 
 void Viewer::run() {
@@ -267,8 +288,14 @@ void Viewer::run() {
   if (!args_.script.empty()) std::fprintf(stderr, "%s\n", latency_.summary().c_str());
 }
 
-void run_viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script) {
-  Viewer viewer(args, std::move(scene), std::move(script));
+void run_viewer(const ViewerArgs& in, Scene scene, std::vector<ScriptCommand> script) {
+  ViewerArgs args = in;
+  // The device and the method are checked before the window opens.
+  auto methods = std::make_shared<const ViewerMethods>(args.backend, args.vk_device);
+  if (args.method.empty()) args.method = methods->gpu() ? methods->listed().front()->name : "exact";
+  methods->get(args.method);
+  if (methods->gpu()) std::fprintf(stderr, "vulkan device: %s\n", methods->device_name().c_str());
+  Viewer viewer(args, std::move(scene), std::move(script), std::move(methods));
   viewer.run();
 }
 

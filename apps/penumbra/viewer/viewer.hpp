@@ -18,12 +18,13 @@
 #include "render_worker.hpp"
 #include "script.hpp"
 #include "view_state.hpp"
+#include "viewer_methods.hpp"
 
 namespace penumbra::viewer {
 
 struct ViewerArgs {
   std::string scene;
-  std::string method = "exact";
+  std::string method;  // empty: `exact`, or the first GPU method with --backend vulkan
   std::string size;
   int samples = 4;
   std::string pattern = "grid";
@@ -33,7 +34,16 @@ struct ViewerArgs {
   int preview_divisor = 4;
   double settle_ms = 200.0;
   bool trace = false;  // one line on stderr per frame shown: where its time went
+  // What the error views compare against: "exact", or "raytrace" with reference_samples² samples
+  // (for scenes where exact is too slow).
+  std::string reference = "exact";
+  int reference_samples = 32;
+  std::string backend = "cpu";  // or "vulkan": the methods (not the reference) on the GPU
+  std::string vk_device;        // as `render --vk-device`
 };
+
+/// The reference's name as the panel and the files show it: `exact` or `raytrace 32×32`.
+std::string reference_label(const ViewerArgs& args);
 
 /// Opens the window and runs until it is closed (or the script, already read and checked, ends).
 /// Throws Error.
@@ -64,7 +74,8 @@ struct LatencyLog {
 
 class Viewer {
  public:
-  Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script);
+  Viewer(const ViewerArgs& args, Scene scene, std::vector<ScriptCommand> script,
+         std::shared_ptr<const ViewerMethods> methods);
   ~Viewer();
   void run();
 
@@ -76,6 +87,8 @@ class Viewer {
   void accept(std::shared_ptr<RenderOutput> out, bool reference);
   void trace(const RenderOutput& out, bool reference) const;
   bool frame_is_final() const;
+  /// The method shown is the reference itself (`exact`, with an exact reference): no second run.
+  bool method_is_reference() const;
   void edited();
   void refresh_picture();
   // panel.cpp
@@ -97,8 +110,10 @@ class Viewer {
   // Files: what the panel's buttons and the script write.
   void save_visibility(const std::filesystem::path& path) const;
   void save_scene(const std::filesystem::path& path) const;
+  void save_error(const std::filesystem::path& path) const;
 
   ViewerArgs args_;
+  std::shared_ptr<const ViewerMethods> methods_;
   std::shared_ptr<const Scene> base_;  // as loaded; every job edits a copy
   std::shared_ptr<SharedBvh> bvh_ = std::make_shared<SharedBvh>();
   float scene_diagonal_ = 1.0f;

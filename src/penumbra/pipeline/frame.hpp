@@ -45,6 +45,8 @@ class Frame {
 
   const Scene& scene() const { return *scene_; }
   const EmbreeScene& embree() const { return *embree_; }
+  /// The BVH, for another frame of the same scene (other samples, lights or camera).
+  std::shared_ptr<const EmbreeScene> embree_shared() const { return embree_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
   const LightSamples& samples() const { return samples_; }
   const Image<uint8_t>& receivers(size_t light) const { return receivers_[light]; }

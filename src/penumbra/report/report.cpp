@@ -21,30 +21,59 @@ namespace {
 
 /// One method's run on a frame: its result, or the Error it threw.
 struct Run {
-  const MethodInfo* info = nullptr;
+  std::string name;  // the method's name; the reference's file-safe label (e.g. raytrace_64x64)
   std::optional<MethodResult> result;
   std::string failure;
+  std::shared_ptr<const Frame> own_frame;  // the reference's frame, when it has its own samples
 };
 
+/// The reference's file-safe name: `exact`, or `raytrace_KxK`.
+std::string reference_name(const ReportSpec& spec) {
+  if (spec.reference == "exact") return "exact";
+  return "raytrace_" + std::to_string(spec.reference_k) + "x" + std::to_string(spec.reference_k);
+}
+
+/// The same for people: `exact`, or `raytrace 64×64`.
+std::string reference_label(const ReportSpec& spec) {
+  if (spec.reference == "exact") return "exact";
+  return "raytrace " + std::to_string(spec.reference_k) + "×" + std::to_string(spec.reference_k);
+}
+
+Run run_one(const Frame& frame, const MethodInfo& info, const MethodOptions& options,
+            const std::string& name, const char* what) {
+  Run r;
+  r.name = name;
+  std::fprintf(stderr, "  %-10s %-16s ...", what, name.c_str());
+  std::fflush(stderr);
+  try {
+    r.result = frame.run(info, options, false);
+    std::fprintf(stderr, "\r  %-10s %-16s %10.1f ms\n", what, name.c_str(), r.result->total_ms);
+  } catch (const Error& e) {
+    r.failure = e.what();
+    std::fprintf(stderr, "\r  %-10s %-16s failed: %s\n", what, name.c_str(), e.what());
+  }
+  return r;
+}
+
+/// The reference first, then every method. `exact` is the first method; a `raytrace` reference
+/// runs on a frame of its own: the same scene and camera with reference_k² light samples of the
+/// same pattern and seed.
 std::vector<Run> run_methods(const Frame& frame, const ReportSpec& spec, const char* what) {
   std::vector<Run> runs;
-  for (size_t m = 0; m < spec.methods.size(); ++m) {
-    Run r;
-    r.info = spec.methods[m];
-    std::fprintf(stderr, "  %-10s %-16s ...", what, r.info->name.c_str());
-    std::fflush(stderr);
-    try {
-      r.result = frame.run(*r.info, spec.options[m], false);
-      std::fprintf(stderr, "\r  %-10s %-16s %10.1f ms\n", what, r.info->name.c_str(),
-                   r.result->total_ms);
-    } catch (const Error& e) {
-      r.failure = e.what();
-      std::fprintf(stderr, "\r  %-10s %-16s failed: %s\n", what, r.info->name.c_str(), e.what());
-    }
-    runs.push_back(std::move(r));
+  if (spec.reference == "raytrace") {
+    LightSampleSpec samples = frame.samples().spec();
+    samples.k = spec.reference_k;
+    auto own = std::make_shared<const Frame>(frame.scene(), samples, frame.embree_shared());
+    const MethodInfo& raytrace = MethodRegistry::builtin().get("raytrace");
+    runs.push_back(
+        run_one(*own, raytrace, resolve_options(raytrace, {}), reference_name(spec), what));
+    runs.back().own_frame = std::move(own);
   }
-  if (runs.empty() || !runs.front().result || runs.front().info->name != "exact")
-    throw Error("the report needs `exact`, which failed: " + runs.front().failure);
+  for (size_t m = 0; m < spec.methods.size(); ++m)
+    runs.push_back(run_one(frame, *spec.methods[m], spec.options[m], spec.methods[m]->name, what));
+  if (!runs.front().result)
+    throw Error("the report needs its reference `" + reference_label(spec) +
+                "`, which failed: " + runs.front().failure);
   return runs;
 }
 
@@ -84,6 +113,7 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
   SceneEntry entry;
   entry.name = scene.name;
   entry.folder = folder_name(scene.name, done);
+  entry.reference = reference_label(spec);
   std::fprintf(stderr, "scene '%s': %zu triangles, %dx%d\n", scene.name.c_str(),
                scene.triangle_count(), scene.camera.width, scene.camera.height);
   const Frame frame(scene, spec.samples);
@@ -95,34 +125,39 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
   entry.width = g.width;
   entry.height = g.height;
   const Image<float> mask = surface_mask(g);
-  const MethodResult& exact = *runs.front().result;
+  const MethodResult& reference = *runs.front().result;
 
   std::vector<Image<float>> errors(runs.size());
   std::vector<const Image<float>*> error_ptrs;
   for (size_t m = 1; m < runs.size(); ++m) {
     if (!runs[m].result) continue;
-    errors[m] = signed_difference(exact, *runs[m].result);
+    errors[m] = signed_difference(reference, *runs[m].result);
     error_ptrs.push_back(&errors[m]);
   }
   entry.error_scale =
       spec.error_scale > 0.0 ? spec.error_scale : common_error_scale(error_ptrs, mask);
-  entry.crop = penumbra_window(exact.per_light.front().lit, mask);
+  entry.crop = penumbra_window(reference.per_light.front().lit, mask);
   entry.crop_zoom = std::max(1, 200 / entry.crop.size);
 
   std::vector<TableRow> rows;
   for (size_t m = 0; m < runs.size(); ++m) {
     MethodEntry me;
-    me.method = runs[m].info->name;
+    me.method = runs[m].name;
     if (!runs[m].result) {
       me.failure = runs[m].failure;
-      rows.push_back({me.method, 0.0, std::nullopt, me.failure});
+      rows.push_back({me.method, 0.0, std::nullopt, me.failure, false});
       entry.methods.push_back(std::move(me));
       continue;
     }
     const MethodResult& r = *runs[m].result;
     me.ms = r.total_ms;
-    if (m > 0) me.vs_exact = compare_results(frame, exact, r);
-    me.stats = stats_json(frame, r, me.vs_exact ? &*me.vs_exact : nullptr);
+    if (m > 0) me.vs_exact = compare_results(frame, reference, r);
+    const Frame& run_frame = runs[m].own_frame ? *runs[m].own_frame : frame;
+    me.stats = stats_json(run_frame, r, me.vs_exact ? &*me.vs_exact : nullptr);
+    if (spec.reference != "exact" && me.stats.contains("error_vs_exact")) {
+      me.stats["error_vs_reference"] = me.stats["error_vs_exact"];
+      me.stats.erase("error_vs_exact");
+    }
     for (const auto& [stage, ms] : me.stats["times_ms"].items())
       if (stage != "total") me.stages.emplace_back(stage, ms.get<double>());
     if (entry.frame.is_null()) entry.frame = me.stats["frame"];
@@ -141,11 +176,11 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
                     crop_zoom(abs_map, entry.crop, entry.crop_zoom));
     }
     plot::write_text_file(dir / (me.method + ".json"), me.stats.dump(2) + "\n");
-    rows.push_back({me.method, me.ms, me.vs_exact, ""});
+    rows.push_back({me.method, me.ms, me.vs_exact, "", m == 0});
     entry.methods.push_back(std::move(me));
   }
   entry.summary_header = summary_header(frame, "modulate");
-  entry.results_md = format_summary(rows, frame, "modulate");
+  entry.results_md = format_summary(rows, frame, "modulate", entry.reference);
   return entry;
 }
 
@@ -194,7 +229,9 @@ SweepEntry run_sweep(const std::string& sweep, const ReportSpec& spec) {
   } else {
     throw Error("--sweep: unknown sweep '" + sweep + "' (known: samples, light_size, resolution)");
   }
-  for (size_t m = 1; m < spec.methods.size(); ++m)
+  // Every run but the reference (run_methods puts it first).
+  const size_t first = spec.reference == "exact" ? 1 : 0;
+  for (size_t m = first; m < spec.methods.size(); ++m)
     entry.curves.push_back({spec.methods[m]->name, {}, {}});
   for (size_t p = 0; p < points.size(); ++p) {
     const Frame frame(points[p].first, points[p].second);
@@ -223,7 +260,12 @@ const std::vector<std::string>& sweep_names() {
 fs::path write_report(const ReportSpec& in) {
   ReportSpec spec = in;
   if (spec.scenes.empty()) throw Error("report: no scene given (--scene)");
-  if (spec.methods.empty() || spec.methods.front()->name != "exact") {
+  if (spec.reference != "exact" && spec.reference != "raytrace")
+    throw Error("--reference: unknown reference '" + spec.reference + "' (known: exact, raytrace)");
+  if (spec.reference == "raytrace" && (spec.reference_k < 1 || spec.reference_k > 64))
+    throw Error("--reference-samples: must be 1 to 64");
+  if (spec.reference == "exact" &&
+      (spec.methods.empty() || spec.methods.front()->name != "exact")) {
     const MethodInfo& exact = MethodRegistry::builtin().get("exact");
     spec.methods.insert(spec.methods.begin(), &exact);
     spec.options.insert(spec.options.begin(), resolve_options(exact, {}));
@@ -236,6 +278,7 @@ fs::path write_report(const ReportSpec& in) {
   if (ec) throw Error("cannot create output folder " + spec.out_dir.string() + ": " + ec.message());
 
   ReportData data;
+  data.reference = reference_label(spec);
   data.machine = machine_info();
   data.command_line = spec.command_line;
   data.samples = std::to_string(spec.samples.k) + "×" + std::to_string(spec.samples.k) + " " +

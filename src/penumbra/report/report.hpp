@@ -16,13 +16,18 @@ namespace penumbra::report {
 
 struct ReportSpec {
   std::vector<std::string> scenes;          // built-in names or scene/model files
-  std::vector<const MethodInfo*> methods;   // `exact` is added first when missing
+  std::vector<const MethodInfo*> methods;   // `exact` is added first when it is the reference
   std::vector<MethodOptions> options;       // one per method
   std::optional<std::pair<int, int>> size;  // overrides every scene's camera
   LightSampleSpec samples;
   /// Sweeps run on the first scene: "samples" (K×K), "light_size" (×0.25..2), "resolution".
   std::vector<std::string> sweeps;
   double error_scale = 0.0;  // 0: common_error_scale per scene
+  /// What every error is measured against: "exact" (the analytic integral over the light), or
+  /// "raytrace" with reference_k × reference_k light samples of the same pattern, for scenes
+  /// where `exact` takes too long (foliage, fragmented geometry: docs/methods/exact.md).
+  std::string reference = "exact";
+  int reference_k = 64;
   std::string command_line;  // shown in the header, so the page says how to reproduce it
   std::filesystem::path out_dir;
 };

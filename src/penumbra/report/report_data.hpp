@@ -16,7 +16,7 @@ struct MethodEntry {
   std::string method;
   std::string failure;  // non-empty: the method threw this message on this scene
   double ms = 0.0;
-  std::optional<ErrorStats> vs_exact;
+  std::optional<ErrorStats> vs_exact;  // against the scene's reference (first method)
   std::vector<std::pair<std::string, double>> stages;  // stats.json times_ms, without "total"
   nlohmann::json stats;                                // the method's stats.json
 };
@@ -24,6 +24,7 @@ struct MethodEntry {
 struct SceneEntry {
   std::string name;
   std::string folder;          // relative to the report folder
+  std::string reference;       // what errors are against: `exact` or e.g. `raytrace 64×64`
   std::string summary_header;  // summary_table.hpp's one-line description
   std::string results_md;      // header, table and key
   int width = 0, height = 0;
@@ -31,7 +32,7 @@ struct SceneEntry {
   double error_scale = 0.0;
   CropRect crop;
   int crop_zoom = 1;
-  std::vector<MethodEntry> methods;  // exact first
+  std::vector<MethodEntry> methods;  // the reference first
 
   const MethodEntry* find(const std::string& method) const {
     for (const MethodEntry& m : methods)
@@ -42,7 +43,7 @@ struct SceneEntry {
 
 struct SweepCurve {
   std::string method;
-  std::vector<double> error;  // mean abs (shadowed) against exact, per x
+  std::vector<double> error;  // mean abs (shadowed) against the reference, per x
   std::vector<double> ms;
 };
 
@@ -55,7 +56,8 @@ struct SweepEntry {
 struct ReportData {
   MachineInfo machine;
   std::string command_line;
-  std::string samples;  // "16×16 grid"
+  std::string samples;    // "16×16 grid"
+  std::string reference;  // `exact` or e.g. `raytrace 64×64`
   std::vector<SceneEntry> scenes;
   std::vector<SweepEntry> sweeps;
 };

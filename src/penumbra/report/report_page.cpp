@@ -117,6 +117,22 @@ double speed_vs_raytrace(const SceneEntry& s, const MethodEntry& m) {
   return rt && m.ms > 0.0 ? rt->ms / m.ms : std::nan("");
 }
 
+bool is_reference(const SceneEntry& s, const MethodEntry& m) {
+  return !s.methods.empty() && &m == &s.methods.front();
+}
+
+/// The reference's V in formulas: V_exact, or V_ref for a ray-traced reference.
+std::string v_ref(const std::string& reference) {
+  return reference == "exact" ? "V_exact" : "V_ref";
+}
+
+/// Rays per pixel `raytrace` traces in the method's time (summary_table.hpp).
+double rays_in_same_time(const SceneEntry& s, const MethodEntry& m) {
+  const MethodEntry* rt = s.find("raytrace");
+  if (!rt || !rt->stats.contains("samples")) return std::nan("");
+  return equal_time_rays(rt->stats["samples"]["count"].get<int>(), rt->ms, m.ms);
+}
+
 std::string caption(const SceneEntry& s, const MethodEntry& m) {
   std::string c = "<figcaption><b>" + xml_escape(m.method) + "</b> <span>";
   if (!m.failure.empty()) return c + "failed</span></figcaption>";
@@ -124,7 +140,7 @@ std::string caption(const SceneEntry& s, const MethodEntry& m) {
   const double speed = speed_vs_raytrace(s, m);
   if (std::isfinite(speed) && m.method != "raytrace") c += fmt(", %.2f× raytrace", speed);
   if (m.vs_exact) c += fmt(", err %.4f", m.vs_exact->mean_abs_shadowed);
-  if (m.method == "exact") c += " — reference";
+  if (is_reference(s, m)) c += " — reference";
   return c + "</span></figcaption>";
 }
 
@@ -135,14 +151,14 @@ std::string figure_grid(const SceneEntry& s, const std::string& suffix, bool wit
   std::ostringstream o;
   o << "<div class='grid'>\n";
   for (const MethodEntry& m : s.methods) {
-    if (!with_exact && m.method == "exact") {  // keeps every method in the beauty row's column
+    if (!with_exact && is_reference(s, m)) {  // keeps every method in the beauty row's column
       o << "<figure class='placeholder'><div style='aspect-ratio:" << w << "/" << h
-        << "'></div><figcaption><span>exact: the reference (no error)</span></figcaption>"
-           "</figure>\n";
+        << "'></div><figcaption><span>" << xml_escape(s.reference)
+        << ": the reference (no error)</span></figcaption></figure>\n";
       continue;
     }
     if (!m.failure.empty()) continue;
-    o << "<figure class='" << (m.method == "exact" ? "reference" : "") << (crop ? " crop" : "")
+    o << "<figure class='" << (is_reference(s, m) ? "reference" : "") << (crop ? " crop" : "")
       << "'>" << img(s.folder + "/" + m.method + suffix + ".png", m.method + " " + what, w, h)
       << caption(s, m) << "</figure>\n";
   }
@@ -157,11 +173,11 @@ std::string legends(const SceneEntry& s) {
   o << "<div class='legend'>"
     << plot::color_bar_svg(abs_error_colors(), 0.0, e,
                            {{0.0, "0"}, {e / 2, plot::tick_label(e / 2)}, {e, "≥ " + scale}},
-                           "|V − V_exact| (fraction of the light, 0–1)")
+                           "|V − " + v_ref(s.reference) + "| (fraction of the light, 0–1)")
     << plot::color_bar_svg(
            signed_error_colors(), -e, e,
            {{-e, "≤ −" + scale + " (too dark)"}, {0.0, "0"}, {e, "(too bright) ≥ +" + scale}},
-           "V − V_exact (signed)")
+           "V − " + v_ref(s.reference) + " (signed)")
     << "<p class='note'>One scale for every method of this scene: " << scale
     << " (the median over the methods of their 99th-percentile error, rounded up; larger "
        "errors saturate). Grey: background. Light 0 only.</p></div>\n";
@@ -176,16 +192,18 @@ std::string cell(double v, const char* format) {
 std::string metrics_table(const SceneEntry& s) {
   std::ostringstream o;
   o << "<table class='sortable'><thead><tr><th>method</th><th>time (ms)</th>"
-       "<th>speed vs raytrace</th><th>mean abs (shadowed)</th><th>mean abs</th><th>max abs</th>"
+       "<th>speed vs raytrace</th><th>rays in same time</th><th>mean abs (shadowed)</th><th>mean "
+       "abs</th><th>max abs</th>"
        "<th>rmse</th><th>PSNR (dB)</th><th>&gt; 1/255</th><th>&gt; 1/16</th></tr></thead><tbody>\n";
   for (const MethodEntry& m : s.methods) {
     o << "<tr><td data-v='" << xml_escape(m.method) << "'>" << xml_escape(m.method) << "</td>";
     if (!m.failure.empty()) {
-      o << "<td class='failed' colspan='9' data-v=''>failed: " << xml_escape(m.failure)
+      o << "<td class='failed' colspan='10' data-v=''>failed: " << xml_escape(m.failure)
         << "</td></tr>\n";
       continue;
     }
-    o << cell(m.ms, "%.1f") << cell(speed_vs_raytrace(s, m), "%.2f×");
+    o << cell(m.ms, "%.1f") << cell(speed_vs_raytrace(s, m), "%.2f×")
+      << cell(rays_in_same_time(s, m), "%.0f");
     if (m.vs_exact) {
       const ErrorStats& e = *m.vs_exact;
       o << cell(e.mean_abs_shadowed, "%.5f") << cell(e.mean_abs, "%.5f") << cell(e.max_abs, "%.4f")
@@ -201,8 +219,8 @@ std::string metrics_table(const SceneEntry& s) {
 }
 
 /// Markdown `**x**` and backquotes of the column key as HTML.
-std::string key_html() {
-  std::string md = table_column_key(), out = "<ul class='key'>";
+std::string key_html(const std::string& reference) {
+  std::string md = table_column_key(reference), out = "<ul class='key'>";
   bool bold = false, code = false;
   for (size_t i = 0; i < md.size(); ++i) {
     if (md.compare(i, 2, "- ") == 0 && (i == 0 || md[i - 1] == '\n')) {
@@ -253,20 +271,21 @@ std::string scene_section(const SceneEntry& s) {
   o << "<section class='scene' id='scene-" << xml_escape(s.folder) << "'>\n<h2>"
     << xml_escape(s.name) << "</h2>\n<p class='meta'>" << xml_escape(s.summary_header)
     << "</p>\n<p class='meta'>" << xml_escape(frame_stages(s)) << "</p>\n";
-  o << "<h3>Beauty: the exact reference and every method</h3>\n"
+  const std::string vr = v_ref(s.reference);
+  o << "<h3>Beauty: the reference (" << xml_escape(s.reference) << ") and every method</h3>\n"
     << figure_grid(s, "", true, "beauty", false);
   o << "<h3>Error maps on one scale</h3>\n"
-    << legends(s) << "<p class='note'>|V − V_exact|</p>"
-    << figure_grid(s, "_abs", false, "absolute error", false)
-    << "<p class='note'>V − V_exact: blue = the method's shadow is too dark, red = too "
+    << legends(s) << "<p class='note'>|V − " << vr << "|</p>"
+    << figure_grid(s, "_abs", false, "absolute error", false) << "<p class='note'>V − " << vr
+    << ": blue = the method's shadow is too dark, red = too "
        "bright</p>"
     << figure_grid(s, "_signed", false, "signed error", false);
   o << "<h3>Penumbra close-up</h3>\n<p class='note'>The " << s.crop.size << "×" << s.crop.size
     << " window at (" << s.crop.x << ", " << s.crop.y << ") with the most penumbra pixels, "
-    << s.crop_zoom << "× enlarged; beauty, then |V − V_exact| on the same scale.</p>"
+    << s.crop_zoom << "× enlarged; beauty, then |V − " << vr << "| on the same scale.</p>"
     << figure_grid(s, "_crop", true, "penumbra crop", true)
     << figure_grid(s, "_crop_abs", false, "penumbra crop error", true);
-  o << "<h3>Error and time</h3>\n" << metrics_table(s) << key_html();
+  o << "<h3>Error and time</h3>\n" << metrics_table(s) << key_html(s.reference);
   o << "<h3>Stage breakdown</h3>\n<div class='charts'>" << stage_chart(s) << "</div>\n";
   o << "</section>\n";
   return o.str();
@@ -276,7 +295,7 @@ std::string error_vs_time(const ReportData& d) {
   std::vector<std::string> methods;
   for (const SceneEntry& s : d.scenes)
     for (const MethodEntry& m : s.methods)
-      if (m.method != "exact" &&
+      if (!is_reference(s, m) &&
           std::find(methods.begin(), methods.end(), m.method) == methods.end())
         methods.push_back(m.method);
   std::vector<plot::Series> series;
@@ -298,14 +317,15 @@ std::string error_vs_time(const ReportData& d) {
   plot::Chart chart;
   chart.title = "Error against time: lower left is better";
   chart.x = {"method time (ms, log scale)", plot::Scale::log10};
-  chart.y = {"mean |V − V_exact| over shadowed pixels (log scale)", plot::Scale::log10};
+  chart.y = {"mean |V − " + v_ref(d.reference) + "| over shadowed pixels (log scale)",
+             plot::Scale::log10};
   chart.width = 860;
   chart.height = 480;
   for (const SceneEntry& s : d.scenes) chart.marker_names.push_back("scene " + s.name);
   return plot::line_plot_svg(chart, series);
 }
 
-std::string sweep_charts(const SweepEntry& sw) {
+std::string sweep_charts(const SweepEntry& sw, const std::string& reference) {
   std::vector<plot::Series> err, time;
   for (const SweepCurve& c : sw.curves) {
     err.push_back({c.method, sw.x, floored(c.error), false, true, {}, {}, ""});
@@ -315,7 +335,7 @@ std::string sweep_charts(const SweepEntry& sw) {
   e.width = 600;
   e.title = "Error vs " + sw.name + " (" + sw.scene + ")";
   e.x = {sw.x_label, plot::Scale::log2};
-  e.y = {"mean |V − V_exact| over shadowed pixels", plot::Scale::log10};
+  e.y = {"mean |V − " + v_ref(reference) + "| over shadowed pixels", plot::Scale::log10};
   plot::Chart t = e;
   t.title = "Time vs " + sw.name + " (" + sw.scene + ")";
   t.y = {"method time (ms)", plot::Scale::log10};
@@ -336,7 +356,9 @@ std::string report_html(const ReportData& d) {
     << "<title>Penumbra report: ";
   for (size_t i = 0; i < d.scenes.size(); ++i) o << (i ? ", " : "") << xml_escape(d.scenes[i].name);
   o << "</title>\n<style>" << kStyle << "</style></head>\n<body>\n<header class='top'>\n"
-    << "<h1>Penumbra: soft shadows against the exact reference</h1>\n<dl>"
+    << "<h1>Penumbra: soft shadows against "
+    << (d.reference == "exact" ? "the exact reference" : "the reference " + xml_escape(d.reference))
+    << "</h1>\n<dl>"
     << "<dt>date</dt><dd>" << xml_escape(d.machine.date_utc) << "</dd>"
     << "<dt>machine</dt><dd>" << d.machine.cores << " hardware threads, "
     << xml_escape(d.machine.cpu) << "; load average " << xml_escape(d.machine.load)
@@ -344,6 +366,7 @@ std::string report_html(const ReportData& d) {
     << "<dt>build</dt><dd>" << xml_escape(d.machine.build) << "</dd>"
     << "<dt>command</dt><dd><code>" << xml_escape(d.command_line) << "</code></dd>"
     << "<dt>light samples</dt><dd>" << xml_escape(d.samples) << "</dd>"
+    << "<dt>reference</dt><dd>" << xml_escape(d.reference) << "</dd>"
     << "<dt>scenes</dt><dd>";
   for (size_t i = 0; i < d.scenes.size(); ++i)
     o << (i ? "; " : "") << xml_escape(d.scenes[i].name) << " " << d.scenes[i].width << "×"
@@ -359,7 +382,7 @@ std::string report_html(const ReportData& d) {
     << "<div class='charts'>" << error_vs_time(d) << "</div>\n";
   for (const SweepEntry& sw : d.sweeps) {
     o << "<h3>Sweep: " << xml_escape(sw.name) << " on " << xml_escape(sw.scene) << "</h3>\n"
-      << sweep_charts(sw);
+      << sweep_charts(sw, d.reference);
   }
   if (d.sweeps.empty())
     o << "<p class='note'>No sweeps in this report (add <code>--sweep samples --sweep "
@@ -377,6 +400,7 @@ nlohmann::json report_json(const ReportData& d) {
                   {"date", d.machine.date_utc}};
   j["command"] = d.command_line;
   j["samples"] = d.samples;
+  j["reference"] = d.reference;
   j["scenes"] = nlohmann::json::array();
   for (const SceneEntry& s : d.scenes) {
     nlohmann::json js = {{"name", s.name},
@@ -392,6 +416,8 @@ nlohmann::json report_json(const ReportData& d) {
       if (!m.failure.empty()) jm["failure"] = m.failure;
       const double speed = speed_vs_raytrace(s, m);
       if (std::isfinite(speed)) jm["speed_vs_raytrace"] = speed;
+      const double rays = rays_in_same_time(s, m);
+      if (std::isfinite(rays)) jm["equal_time_rays"] = rays;
       js["methods"].push_back(jm);
     }
     j["scenes"].push_back(js);
@@ -419,6 +445,7 @@ std::string report_markdown(const ReportData& d) {
     << "Machine: " << d.machine.cores << " hardware threads, " << d.machine.cpu << "; load average "
     << d.machine.load << " (wall-clock times: compare ratios within a "
     << "table). Build: " << d.machine.build << ".\n";
+  if (d.reference != "exact") o << "Errors against `" << d.reference << "`.\n";
   for (const SceneEntry& s : d.scenes) o << "\n### " << s.name << "\n\n" << s.results_md;
   return o.str();
 }
