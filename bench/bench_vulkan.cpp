@@ -6,7 +6,9 @@
 // run (pipelines are compiled on first use), counters = the GPU stage times from timestamp queries
 // (gpu_*) and the host wall times around them (wall_*), plus the check against the CPU method on
 // the same frame: differ_pixels (|ΔV| > 1e-6) among active_pixels, max_abs_dv and, for gears,
-// differ_samples (per-sample masks). Skipped without a Vulkan device or a fetched model.
+// differ_samples (per-sample masks) for the sample-exact methods (gears, dcs). BM_Cpu/raytrace_*
+// times the reference every method's table row is compared with. Skipped without a Vulkan device
+// or a fetched model.
 // BM_RadixSort/<ranking>: the GEARS pair sort alone (gpu/sort.hpp), its two block rankings on the
 // same keys — subgroup ballots (linear in the block size) and byte compares (quadratic, the
 // fallback of devices without ballots); Args {log2 of the pair count, key bits}, counter gpu_ms.
@@ -69,7 +71,7 @@ void BM_Cpu(benchmark::State& state, const std::string& method, const std::strin
 /// The GPU result against the CPU method's on the same frame (one run each, masks for gears).
 void check(benchmark::State& state, const bench::Fixture& f, const MethodInfo& cpu_info,
            const MethodInfo& gpu_info, const MethodOptions& opts) {
-  const bool masks = cpu_info.name == "gears";
+  const bool masks = cpu_info.sample_exact;  // gears, dcs: per-sample masks
   const MethodResult cpu = f.frame->run(cpu_info, opts, masks);
   const MethodResult gpu = f.frame->run(gpu_info, opts, masks);
   const Visibility &c = cpu.per_light[0], &g = gpu.per_light[0];
@@ -172,6 +174,21 @@ BENCHMARK_CAPTURE(BM_RadixSort, compare, gpu::RadixRanking::compare)
 PENUMBRA_GPU_BENCH(gears, bunny, gears_args);
 PENUMBRA_GPU_BENCH(gears, dragon, gears_args);
 PENUMBRA_GPU_BENCH(gears, spheres, gears_args);
+PENUMBRA_GPU_BENCH(dcs, bunny, raster_args);
+PENUMBRA_GPU_BENCH(dcs, dragon, raster_args);
+PENUMBRA_GPU_BENCH(dcs, spheres, raster_args);
+PENUMBRA_GPU_BENCH(wedges, bunny, raster_args);
+PENUMBRA_GPU_BENCH(wedges, dragon, raster_args);
+PENUMBRA_GPU_BENCH(wedges, spheres, raster_args);
+PENUMBRA_GPU_BENCH(ssm, bunny, raster_args);
+PENUMBRA_GPU_BENCH(ssm, dragon, raster_args);
+PENUMBRA_GPU_BENCH(ssm, spheres, raster_args);
+BENCHMARK_CAPTURE(BM_Cpu, raytrace_bunny, std::string("raytrace"), std::string("bunny"))
+    ->Apply(raster_args);
+BENCHMARK_CAPTURE(BM_Cpu, raytrace_dragon, std::string("raytrace"), std::string("dragon"))
+    ->Apply(raster_args);
+BENCHMARK_CAPTURE(BM_Cpu, raytrace_spheres, std::string("raytrace"), std::string("spheres"))
+    ->Apply(raster_args);
 PENUMBRA_GPU_BENCH(shadow_map, bunny, raster_args);
 PENUMBRA_GPU_BENCH(shadow_map, dragon, raster_args);
 PENUMBRA_GPU_BENCH(pcss, bunny, raster_args);

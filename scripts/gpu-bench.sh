@@ -4,11 +4,12 @@
 #   1. build the release CLI, the Vulkan tests and bench/bench_vulkan;
 #   2. check: the Vulkan tests (masks, maps and counts against the CPU methods on the test scenes),
 #      then on every benchmarked frame the Vulkan result against the CPU method's: per-sample
-#      masks for gears, per-pixel visibility for shadow_map, pcss, shadow_volume (fails the run
-#      past the bounds of docs/gpu.md);
+#      masks for gears and dcs, per-pixel visibility for wedges, ssm, shadow_map, pcss and
+#      shadow_volume (fails the run past the bounds of docs/gpu.md);
 #   3. time: GPU stage times from timestamp queries and host wall times (Vulkan), stage wall times
-#      (CPU), printed as the GEARS paper's Tables 1, 2 and 5 [Wang 2014 §4.3] plus the raster
-#      methods. JSON in <out-dir>/bench.json, the tables in <out-dir>/tables.md.
+#      (CPU), printed as the GEARS paper's Tables 1, 2 and 5 [Wang 2014 §4.3] and a method × scene
+#      table (every Vulkan method against its CPU twin, the CPU raytrace and the Vulkan gears).
+#      JSON in <out-dir>/bench.json, the tables in <out-dir>/tables.md.
 #   scripts/gpu-bench.sh [out-dir]
 # PENUMBRA_VK_DEVICE picks the device (index or name substring). PENUMBRA_GPU_BENCH=full runs the
 # paper's sizes (Table 1: 512², 1024², 1280²; Table 2: 1024²; Table 5: 512²), =quick the sizes a
@@ -19,8 +20,9 @@ out="${1:-build/gpu-bench}"
 mkdir -p "$out"
 if ! command -v glslc >/dev/null || [ ! -f /usr/include/vulkan/vulkan.h ]; then scripts/setup.sh; fi
 scripts/build.sh release --target penumbra_cli bench_vulkan test_vulkan_compute \
-  test_vulkan_depth_maps test_vulkan_gears test_vulkan_shadow_volume
-for t in compute depth_maps gears shadow_volume; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
+  test_vulkan_depth_maps test_vulkan_gears test_vulkan_dcs test_vulkan_wedges test_vulkan_ssm \
+  test_vulkan_shadow_volume
+for t in compute depth_maps gears dcs wedges ssm shadow_volume; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
 # bunny and dragon (scripts/fetch-models.sh); without them (an offline machine) the built-in spheres.
 scenes="bunny|dragon"
 models="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
@@ -32,7 +34,7 @@ mode="${PENUMBRA_GPU_BENCH:-$([[ "$device" == llvmpipe* ]] && echo quick || echo
 if [ "$mode" = full ]; then t1="512|1024|1280" t2=1024 t5=512 r=1024; else t1="128|256" t2=256 t5=128 r=256; fi
 echo "device: $device; mode: $mode; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 filter="^BM_(Cpu|Vulkan)/(gears_($scenes)/($t1|$t2)/16|gears_($scenes)/$t5/(4|8|16|32)"
-filter+="|(shadow_map|pcss|shadow_volume)_($scenes)/$r/16)/|^BM_RadixSort/"
+filter+="|(dcs|wedges|ssm|raytrace|shadow_map|pcss|shadow_volume)_($scenes)/$r/16)/|^BM_RadixSort/"
 build/release/bench/bench_vulkan --benchmark_filter="$filter" --benchmark_out="$out/bench.json" \
   --benchmark_out_format=json >/dev/null
 
@@ -56,13 +58,13 @@ def check(method, scene, size, k):
     g = get("Vulkan", method, scene, size, k)
     if not g:
         return "–"
-    if method == "gears":
+    if method in ("gears", "dcs"):  # sample-exact: per-sample masks
         frac = g["differ_samples"] / max(1.0, g["active_pixels"] * k * k)
         ok = frac <= 1e-3  # ≥ 99.9 % of (pixel, sample) pairs equal
         text = f"{g['differ_samples']:.0f} samples"
     else:
         frac = g["differ_pixels"] / max(1.0, g["active_pixels"])
-        ok = frac <= (1e-3 if method == "shadow_volume" else 5e-3)
+        ok = frac <= (1e-3 if method in ("shadow_volume", "ssm", "wedges") else 5e-3)
         text = f"{g['differ_pixels']:.0f} px"
     if not ok:
         failed.append(f"{method} {scene} {size}² k={k}: {text}")
@@ -116,6 +118,18 @@ for method in ("shadow_map", "pcss", "shadow_volume"):
                            if k.startswith("gpu_")) if g else "–"
         print(f"| {method} | {scene} | {ms(g)} | {stages} | {ms(c)} | "
               f"{check(method, scene, int(r), 16)} |")
+print(f"\nEvery Vulkan method ({r}², k = 16): ms per frame; vs raytrace = CPU raytrace ms / Vulkan "
+      "ms, vs gears = Vulkan gears ms / Vulkan ms (above 1: faster than the GPU gears)\n")
+print("| method | scene | Vulkan wall ms | CPU ms | CPU / Vulkan | vs raytrace | vs gears | check |")
+print("|---|---|---|---|---|---|---|---|")
+for method in ("gears", "dcs", "wedges", "ssm", "shadow_map", "pcss", "shadow_volume"):
+    for scene in scenes:
+        g, c = get("Vulkan", method, scene, int(r), 16), get("Cpu", method, scene, int(r), 16)
+        rt, gg = get("Cpu", "raytrace", scene, int(r), 16), get("Vulkan", "gears", scene, int(r), 16)
+        def ratio(a, b):
+            return f"{a['real_time'] / b['real_time']:.2f}×" if a and b else "–"
+        print(f"| {method} | {scene} | {ms(g)} | {ms(c)} | {ratio(c, g)} | {ratio(rt, g)} | "
+              f"{ratio(gg, g)} | {check(method, scene, int(r), 16)} |")
 print("\nRadix sort of the (cell, triangle) pairs alone, 2^20 pairs: GPU ms (timestamps) per block ranking\n")
 print("| ranking | key bits | GPU ms |")
 print("|---|---|---|")

@@ -36,7 +36,8 @@ const GraphicsPipeline& Backend::volume_pipeline() {
 }
 
 const std::vector<std::string>& Backend::methods() {
-  static const std::vector<std::string> names = {"gears", "shadow_map", "pcss", "shadow_volume"};
+  static const std::vector<std::string> names = {"gears",         "dcs",    "shadow_map", "pcss",
+                                                 "shadow_volume", "wedges", "ssm"};
   return names;
 }
 
@@ -49,6 +50,12 @@ MethodInfo Backend::vulkan_method(const MethodInfo& info) {
   MethodInfo out = info;
   if (info.name == "gears") {
     out.create = [this](const MethodOptions& o) { return create_gears_vk(*this, o); };
+  } else if (info.name == "dcs") {
+    out.create = [this](const MethodOptions& o) { return create_dcs_vk(*this, o); };
+  } else if (info.name == "wedges") {
+    out.create = [this](const MethodOptions& o) { return create_wedges_vk(*this, o); };
+  } else if (info.name == "ssm") {
+    out.create = [this](const MethodOptions& o) { return create_ssm_vk(*this, o); };
   } else if (info.name == "shadow_map") {
     out.create = [this](const MethodOptions& o) { return create_shadow_map_vk(*this, o); };
   } else if (info.name == "pcss") {

@@ -70,10 +70,20 @@ struct RasterPush {
   VkDeviceAddress alpha, texels, samples;
 };
 static_assert(sizeof(RasterPush) == 120);
+struct SamplesPush {
+  VkDeviceAddress pix, tris, cell, begin, end, vals, words_out, emit, samples, alpha, texels;
+  uint32_t n, ns, words, first, chunk, per_pixel;
+  float uv_lo[2], uv_hi[2];
+};
+static_assert(sizeof(SamplesPush) == 128);
 
 // Triangles of a cell one rasterization dispatch walks: × 32 rows × 4 lines below llvmpipe's
 // 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
 constexpr uint32_t kRasterChunk = 256;
+/// The same for the per-sample rasterizer (gears_samples.comp): one iteration per sample.
+uint32_t samples_chunk(int samples) {
+  return std::clamp<uint32_t>(50000u / static_cast<uint32_t>(samples + 8), 1, kRasterChunk);
+}
 
 void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
@@ -97,13 +107,16 @@ class GearsVk final : public ShadowMethod {
     const Light& light = ctx.light;
     const int n = ctx.samples.count();
     const int k = ctx.samples.k();
-    // The GPU path covers the row-span rasterizer: the regular grid of shared samples, k ≤ 32.
-    if (light.shape == LightShape::point)
-      throw Error("gears on vulkan: point lights are not supported (use --backend cpu)");
-    if (ctx.samples.per_pixel() || ctx.samples.spec().pattern != SamplePattern::grid)
-      throw Error("gears on vulkan: needs --pattern grid (the row-span rasterizer's samples)");
-    if (k > 32) throw Error("gears on vulkan: at most 32×32 light samples (--samples ≤ 32)");
+    if (k > 64) throw Error("gears on vulkan: at most 64×64 light samples (--samples ≤ 64)");
     const bool sphere = light.shape == LightShape::sphere;
+    const bool point = light.shape == LightShape::point;
+    const bool per_pixel = ctx.samples.per_pixel();
+    // As on the CPU: row spans for the regular grid of shared samples (k ≤ 32), sample by sample
+    // otherwise (one sample at the light for a point light).
+    const bool use_rows =
+        ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel && k <= 32 && !point;
+    const int ns = point ? 1 : n;
+    const uint32_t words = static_cast<uint32_t>((ns + 31) / 32);
     const Texture* emission =
         light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
 
@@ -119,7 +132,7 @@ class GearsVk final : public ShadowMethod {
       if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
     const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
     Vec3 toward = frame0.emit_normal;
-    if (sphere) {
+    if (sphere || point) {
       Bounds3 b;
       for (uint32_t i : active) b.extend(g.shadow_origin(i));
       toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
@@ -132,7 +145,9 @@ class GearsVk final : public ShadowMethod {
       const Vec3 p = space.to_light(g.shadow_origin(active[a]));
       p_light[a] = p;
       Vec3 w = -p, eu(1.0f, 0.0f, 0.0f), ev(0.0f, 1.0f, 0.0f);
-      if (sphere) {
+      if (point) {
+        eu = ev = Vec3(0.0f);
+      } else if (sphere) {
         // The sphere's silhouette disk as seen from this pixel (scene/light.hpp).
         const LightFrame f = light_frame(light, g.shadow_origin(active[a]));
         auto dir = [&](const Vec3& d) {
@@ -182,37 +197,71 @@ class GearsVk final : public ShadowMethod {
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
     const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
-    for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
-      for (int c = 0; c < 4; ++c)
-        corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
+    if (point) {
+      corners = {Vec3(0.0f)};
+    } else {
+      for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
+        for (int c = 0; c < 4; ++c)
+          corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
+    }
     // Shared sample positions: their bounding box and the rows of samples the light emits from.
     std::vector<Vec2> shared(n);
     ctx.samples.pixel_samples(0, 0, shared);
-    Vec2 uv_lo(kInfinity), uv_hi(-kInfinity);
-    for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
+    Vec2 uv_lo(0.0f), uv_hi(1.0f);  // per-pixel samples: the unit square holds them all
+    if (!per_pixel) {
+      uv_lo = Vec2(kInfinity), uv_hi = Vec2(-kInfinity);
+      for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
+    }
+    if (point) uv_lo = uv_hi = Vec2(0.0f);
     std::vector<uint32_t> emit_rows(k, 0);
     std::vector<uint64_t> emit_words(masks.words_per_pixel(), 0);
     int emit_count = 0;
     for (int s = 0; s < n; ++s)
       if (frame0.emits(shared[s])) {
-        emit_rows[s / k] |= 1u << (s % k);
+        if (use_rows) emit_rows[s / k] |= 1u << (s % k);
         emit_words[s >> 6] |= uint64_t{1} << (s & 63);
         ++emit_count;
       }
+    // The per-sample rasterizer's samples and emitting bits: shared, or per pixel (per-pixel
+    // patterns, and a point light's one sample) as the CPU's work items set them.
+    std::vector<float> sample_uv;
+    std::vector<uint32_t> emit_bits;
+    if (!use_rows) {
+      const bool own = per_pixel || point;
+      std::vector<Vec2> uvs(n);
+      for (size_t a = 0; a < (own ? active.size() : 1); ++a) {
+        const uint32_t pixel = own ? active[a] : 0;
+        if (per_pixel)
+          ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
+                                    static_cast<int>(pixel / g.width), uvs);
+        else
+          uvs = shared;
+        const LightFrame frame = sphere ? light_frame(light, g.shadow_origin(pixel)) : frame0;
+        std::vector<uint32_t> bits(words, 0);
+        for (int s = 0; s < ns; ++s) {
+          sample_uv.insert(sample_uv.end(), {point ? 0.0f : uvs[s].x, point ? 0.0f : uvs[s].y});
+          const bool emits = point || (own ? frame.emits(uvs[s]) : frame0.emits(uvs[s]));
+          if (emits) bits[s >> 5] |= 1u << (s & 31);
+        }
+        emit_bits.insert(emit_bits.end(), bits.begin(), bits.end());
+      }
+    } else {
+      for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
+    }
     vis.times.add("light_space_setup", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
     const uint32_t na = static_cast<uint32_t>(active.size());
     const Buffer pix_buf = vk.upload(pix);
     const Buffer tri_buf = vk.upload(tris);
-    const Buffer emit_buf = vk.upload(emit_rows);
+    const Buffer emit_buf = use_rows ? vk.upload(emit_rows) : vk.upload(emit_bits);
     const Buffer alpha_buf = vk.upload(alpha);
     const Buffer texel_buf = vk.upload(texels);
-    std::vector<float> sample_uv;
-    for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
     const Buffer sample_buf = vk.upload(sample_uv);
     const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
-    const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * k, 1) * 4, Memory::device);
+    const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
+    const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * words_per_pixel, 1) * 4,
+                          Memory::device);
     const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
     const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
@@ -323,7 +372,31 @@ class GearsVk final : public ShadowMethod {
 
         // Submission 3: the rasterization, in chunks of each cell's list.
         CommandList raster(vk);
-        for (uint32_t first = 0; first < longest; first += kRasterChunk) {
+        const uint32_t chunk = samples_chunk(ns);
+        for (uint32_t first = 0; first < longest && !use_rows; first += chunk) {
+          const SamplesPush sp{pix_buf.address(),
+                               tri_buf.address(),
+                               cell_buf.address(),
+                               begin.address(),
+                               end.address(),
+                               sorted_vals.address(),
+                               rows_buf.address(),
+                               emit_buf.address(),
+                               sample_buf.address(),
+                               alpha_buf.address(),
+                               texel_buf.address(),
+                               na,
+                               static_cast<uint32_t>(ns),
+                               words,
+                               first,
+                               chunk,
+                               per_pixel || point ? 1u : 0u,
+                               {uv_lo.x, uv_lo.y},
+                               {uv_hi.x, uv_hi.y}};
+          raster.dispatch(programs.get(Shader::gears_samples), sp, na);
+          raster.barrier();
+        }
+        for (uint32_t first = 0; first < longest && use_rows; first += kRasterChunk) {
           const RasterPush rp{pix_buf.address(),
                               tri_buf.address(),
                               cell_buf.address(),
@@ -353,19 +426,28 @@ class GearsVk final : public ShadowMethod {
 
     // ---- Readback: rows → SampleMasks (bit i·k + j... row-major: sample s = j·k + i).
     t0 = std::chrono::steady_clock::now();
-    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, size_t{na} * k);
+    const std::vector<uint32_t> rows =
+        vk.download<uint32_t>(rows_buf, size_t{na} * words_per_pixel);
     std::vector<Vec2> uvs(n);
     std::vector<float> sample_vis(n);
     for (size_t a = 0; a < active.size(); ++a) {
       const uint32_t pixel = active[a];
       uint64_t* m = masks.pixel(pixel);
-      for (int j = 0; j < k; ++j) {
-        const uint64_t bits = rows[a * k + j];
-        const int p = j * k;
-        m[p >> 6] |= bits << (p & 63);
-        if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
+      if (use_rows) {
+        for (int j = 0; j < k; ++j) {
+          const uint64_t bits = rows[a * k + j];
+          const int p = j * k;
+          m[p >> 6] |= bits << (p & 63);
+          if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
+        }
+      } else if (point) {  // the light's one sample stands for all of them
+        if (rows[a] & 1u)
+          for (int s = 0; s < n; ++s) m[s >> 6] |= uint64_t{1} << (s & 63);
+      } else {
+        for (uint32_t w = 0; w < words; ++w)
+          m[w >> 1] |= uint64_t{rows[a * words + w]} << (32 * (w & 1));
       }
-      if (!emission) {
+      if (!emission && !per_pixel && !point) {
         int blocked = 0;
         for (int i = 0; i < masks.words_per_pixel(); ++i)
           blocked += std::popcount(m[i] & emit_words[i]);
@@ -382,7 +464,7 @@ class GearsVk final : public ShadowMethod {
       const SampleWeights w =
           accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
       vis.lit[pixel] = w.visible_fraction();
-      vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
+      if (emission) vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
     }
     vis.times.add("wall_readback", elapsed_ms(t0));
     vis.counters["triangles"] = tri_count;

@@ -38,6 +38,9 @@ const uint32_t kGearsLongest[] = {
 const uint32_t kGearsRaster[] = {
 #include "gears_raster.comp.inc"
 };
+const uint32_t kGearsSamples[] = {
+#include "gears_samples.comp.inc"
+};
 const uint32_t kDepthMin[] = {
 #include "depth_min.comp.inc"
 };
@@ -71,6 +74,24 @@ const uint32_t kVolumeVert[] = {
 const uint32_t kVolumeFrag[] = {
 #include "volume.frag.inc"
 };
+const uint32_t kDcsInit[] = {
+#include "dcs_init.comp.inc"
+};
+const uint32_t kDcsEdges[] = {
+#include "dcs_edges.comp.inc"
+};
+const uint32_t kDcsStsv[] = {
+#include "dcs_stsv.comp.inc"
+};
+const uint32_t kDcsFinish[] = {
+#include "dcs_finish.comp.inc"
+};
+const uint32_t kWedgesPass2[] = {
+#include "wedges_pass2.comp.inc"
+};
+const uint32_t kSsmBlend[] = {
+#include "ssm_blend.comp.inc"
+};
 
 }  // namespace
 
@@ -98,6 +119,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kGearsLongest;
     case Shader::gears_raster:
       return kGearsRaster;
+    case Shader::gears_samples:
+      return kGearsSamples;
     case Shader::depth_min:
       return kDepthMin;
     case Shader::shadow_lookup:
@@ -120,6 +143,18 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kVolumeVert;
     case Shader::volume_frag:
       return kVolumeFrag;
+    case Shader::dcs_init:
+      return kDcsInit;
+    case Shader::dcs_edges:
+      return kDcsEdges;
+    case Shader::dcs_stsv:
+      return kDcsStsv;
+    case Shader::dcs_finish:
+      return kDcsFinish;
+    case Shader::ssm_blend:
+      return kSsmBlend;
+    case Shader::wedges_pass2:
+      return kWedgesPass2;
     case Shader::count_:
       break;
   }

@@ -21,6 +21,7 @@ enum class Shader {
   gears_ranges,
   gears_longest,
   gears_raster,
+  gears_samples,
   depth_min,
   shadow_lookup,
   shadow_lookup_f64,
@@ -32,6 +33,12 @@ enum class Shader {
   volume_setup,
   volume_vert,
   volume_frag,
+  dcs_init,
+  dcs_edges,
+  dcs_stsv,
+  dcs_finish,
+  ssm_blend,
+  wedges_pass2,
   count_
 };
 

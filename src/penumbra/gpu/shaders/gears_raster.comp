@@ -37,74 +37,13 @@ layout(push_constant) uniform Push {
   Floats samples;   // light uv of sample s at 2s, 2s + 1
 } pc;
 
-/// Does alpha-tested triangle t block sample s? The texture decides at the barycentrics of the
-/// sample's ray (the CPU's hit_barycentrics and Texture::texel_index).
-bool alpha_blocks(uint t, float la[4], float lb[4], float lc[4], int s) {
-  const vec4 h = pc.alpha.v[3u * t];
-  const vec4 uv01 = pc.alpha.v[3u * t + 1u];
-  const vec2 uv2 = pc.alpha.v[3u * t + 2u].xy;
-  const float su = pc.samples.v[2 * s], sv = pc.samples.v[2 * s + 1];
-  precise float e0 = la[0] + lb[0] * su + lc[0] * sv;  // ∝ λ_C
-  precise float e1 = la[1] + lb[1] * su + lc[1] * sv;  // ∝ λ_A
-  precise float e2 = la[2] + lb[2] * su + lc[2] * sv;  // ∝ λ_B
-  precise float sum = e0 + e1 + e2;
-  precise float bu = sum > 0.0 ? e2 / sum : 0.0, bv = sum > 0.0 ? e0 / sum : 0.0;
-  precise vec2 uv = (1.0 - bu - bv) * uv01.xy + bu * uv01.zw + bv * uv2;
-  const int width = int(h.y), height = int(h.z);
-  const float u = uv.x - floor(uv.x), v = uv.y - floor(uv.y);
-  const int tx = min(width - 1, max(0, int(u * float(width))));
-  const int ty = min(height - 1, max(0, int(v * float(height))));
-  return pc.texels.v[floatBitsToUint(h.x) + uint(ty * width + tx)] != 0u;
-}
-
-// max/min as the CPU's vector code writes them (a NaN operand picks b).
-float vmax(float a, float b) { return a > b ? a : b; }
-float vmin(float a, float b) { return a < b ? a : b; }
-
-/// u × w with u, w in lexicographic order; `sgn` = +1 when that order is (u, w), else −1.
-vec3 edge_normal(vec3 u, vec3 w, out float sgn) {
-  const bool before = u.x < w.x || (u.x == w.x && (u.y < w.y || (u.y == w.y && u.z <= w.z)));
-  const vec3 p0 = before ? u : w, p1 = before ? w : u;
-  sgn = before ? 1.0 : -1.0;
-  precise vec3 r = vec3(p0.y * p1.z - p0.z * p1.y, p0.z * p1.x - p0.x * p1.z,
-                        p0.x * p1.y - p0.y * p1.x);
-  return r;
-}
+#include "gears_lines.glsl"
 
 /// ORs triangle t's coverage of the k×k samples into rows; false when it covers nothing.
 bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint rows[32]) {
   const float kf = float(k);
-  precise vec3 A = pc.tris.v[3u * t].xyz - p;
-  precise vec3 B = pc.tris.v[3u * t + 1u].xyz - p;
-  precise vec3 C = pc.tris.v[3u * t + 2u].xyz - p;
-  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a, each from its two vertices in a canonical
-  // (lexicographic) order and then signed for this triangle, so that two triangles sharing an
-  // edge get exactly opposite lines (watertight, as on the CPU).
-  precise vec3 n[3];
-  float sgn[3];
-  n[0] = edge_normal(A, B, sgn[0]);
-  n[1] = edge_normal(B, C, sgn[1]);
-  n[2] = edge_normal(C, A, sgn[2]);
-  precise float det = sgn[1] * (A.x * n[1].x + A.y * n[1].y + A.z * n[1].z);
-  if (det == 0.0) return false;
-  const float s = det > 0.0 ? 1.0 : -1.0;
-  precise float la[4], lb[4], lc[4];
-  [[unroll]] for (int m = 0; m < 3; ++m) {
-    const float sm = s * sgn[m];
-    la[m] = sm * (n[m].x * w.x + n[m].y * w.y + n[m].z * w.z);
-    lb[m] = sm * (n[m].x * eu.x + n[m].y * eu.y + n[m].z * eu.z);
-    lc[m] = sm * (n[m].x * ev.x + n[m].y * ev.y + n[m].z * ev.z);
-  }
-  // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|.
-  la[3] = la[0] + la[1] + la[2] - s * det;
-  lb[3] = lb[0] + lb[1] + lb[2];
-  lc[3] = lc[0] + lc[1] + lc[2];
-  // Can every line be non-negative somewhere in the samples' bounding box?
-  [[unroll]] for (int m = 0; m < 4; ++m) {
-    precise float best = la[m] + vmax(lb[m] * pc.uv_lo.x, lb[m] * pc.uv_hi.x) +
-                         vmax(lc[m] * pc.uv_lo.y, lc[m] * pc.uv_hi.y);
-    if (!(best >= 0.0)) return false;
-  }
+  float la[4], lb[4], lc[4];
+  if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) return false;
   // Row-span form in sample-index space (sample (i, j) at ((i + ½)/k, (j + ½)/k)): line m is
   // al + b·i + c·j ≥ 0, a lower bound on i (b > 0) or an upper bound (b < 0).
   const float inf = uintBitsToFloat(0x7f800000u);
@@ -136,7 +75,8 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
       uint span = (2u << uint(hi)) - (1u << uint(lo));
       if (alpha_tested)
         for (int i = lo; i <= hi; ++i)
-          if (!alpha_blocks(t, la, lb, lc, j * k + i)) span &= ~(1u << uint(i));
+          if (!alpha_blocks_at(t, la, lb, lc, pc.samples.v[2 * (j * k + i)],
+                               pc.samples.v[2 * (j * k + i) + 1])) span &= ~(1u << uint(i));
       rows[j] |= span;
       any = any || span != 0u;
     }

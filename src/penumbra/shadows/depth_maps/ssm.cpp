@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <tuple>
+#include <utility>
 
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/raster/projection.hpp"
@@ -89,19 +90,16 @@ struct TanBox {
   bool empty() const { return !(x1 >= x0) || !(y1 >= y0); }
 };
 
-struct Patch {
-  double px, py, hx, hy, zo;
-  int i0, i1, j0, j1;    // soft-shadow-map texel range of the penumbra extent (inclusive)
-  int order_i, order_j;  // first occluder-map texel: the blending order
-};
+using ssm::Patch;
 
 /// Receiver-map depths within this fraction of a point's own depth are the same receiver.
 constexpr double kSameReceiverDepth = 0.05;
 
 class Ssm final : public ShadowMethod {
  public:
-  explicit Ssm(const MethodOptions& o)
-      : res_(o.get_int("resolution")),
+  Ssm(const MethodOptions& o, ssm::Blend blend)
+      : blend_(std::move(blend)),
+        res_(o.get_int("resolution")),
         ssm_res_(o.get_int("ssm_resolution")),
         two_pass_(o.get_bool("two_pass")),
         back_furthest_(o.get_choice("back_depth") == "furthest"),
@@ -210,6 +208,13 @@ class Ssm final : public ShadowMethod {
     for (size_t pass = 0; pass < (two_pass_ ? 2u : 1u); ++pass) {
       start = std::chrono::steady_clock::now();
       const std::vector<Patch>& patches = maps.patches[pass];
+      if (blend_ && !fp16_) {
+        double touched = 0.0;
+        ssms.push_back(blend_(patches, sw, rmap, light, touched));
+        touched_total += touched;
+        vis.times.add(pass == 0 ? "ssm_front" : "ssm_back", elapsed_ms(start));
+        continue;
+      }
       std::atomic<long long> touched{0};
       Image<float> acc(sw.w, sw.h, 0.0f);
       parallel_bands(sw.h, kBand, [&](int first, int last) {
@@ -456,12 +461,17 @@ class Ssm final : public ShadowMethod {
     return out;
   }
 
+  ssm::Blend blend_;  // step 4 elsewhere (the Vulkan backend), or null: the loop above
   int res_, ssm_res_;
   bool two_pass_, back_furthest_, fp16_, merge_;
   double budget_;  // soft-shadow-map texel updates per frame
 };
 
 }  // namespace
+
+std::unique_ptr<ShadowMethod> ssm::make_ssm(const MethodOptions& options, Blend blend) {
+  return std::make_unique<Ssm>(options, std::move(blend));
+}
 
 void register_ssm(MethodRegistry& registry) {
   MethodInfo info;
@@ -510,7 +520,7 @@ void register_ssm(MethodRegistry& registry) {
        1,
        1000000},
   };
-  info.create = [](const MethodOptions& o) { return std::make_unique<Ssm>(o); };
+  info.create = [](const MethodOptions& o) { return std::make_unique<Ssm>(o, nullptr); };
   registry.add(std::move(info));
 }
 

@@ -10,12 +10,19 @@
 // renderer, the per-patch occlusion and the FP16 emulation) so tests can check them in isolation.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include "penumbra/core/image.hpp"
 #include "penumbra/core/math.hpp"
 #include "penumbra/scene/light.hpp"
 #include "penumbra/scene/scene.hpp"
+#include "penumbra/shadows/method.hpp"
+
+namespace penumbra {
+class MethodOptions;
+}
 
 namespace penumbra::ssm {
 
@@ -72,6 +79,28 @@ Image<float> render_light_map(const Scene& scene, const std::vector<bool>& selec
 /// with zr > zo (a patch touching the receiver gives a huge but finite scale, clamped overlaps).
 double patch_occlusion(double px, double py, double hx, double hy, double zo, double qx, double qy,
                        double zr, double lu, double lv);
+
+/// A micro-patch — an occluder-map texel, or a merged rectangle of equal-depth texels — at depth
+/// zo, centre (px, py), half-sizes (hx, hy) in light space [Atty 2006 §3.2], with its penumbra
+/// extent [§3.3] as the soft-shadow-map texels [i0, i1] × [j0, j1], and its first occluder-map
+/// texel (the blending order).
+struct Patch {
+  double px, py, hx, hy, zo;
+  int i0, i1, j0, j1;
+  int order_i, order_j;
+};
+
+/// Step 4 of one pass [Atty 2006 §3.4]: the soft shadow map (sw.w × sw.h, zero-initialised) where
+/// each texel holding a receiver (rmap finite) sums in float, in patch order, the patch_occlusion
+/// of every patch whose extent holds it, at the texel centre's point of depth rmap. `touched` gets
+/// the number of (patch, texel) pairs visited.
+using Blend =
+    std::function<Image<float>(const std::vector<Patch>& patches, const Window& sw,
+                               const Image<float>& rmap, const LightRect& light, double& touched)>;
+
+/// The `ssm` method with step 4 done by `blend` (the Vulkan backend's); fp16 blending keeps the
+/// CPU's loop.
+std::unique_ptr<ShadowMethod> make_ssm(const MethodOptions& options, Blend blend);
 
 /// `x` rounded to IEEE binary16 (s10e5: 11 significant bits, overflow to ±inf, subnormals kept),
 /// returned as float: the precision of the 2006 GPU blending [Atty 2006 App. A]. Round to nearest

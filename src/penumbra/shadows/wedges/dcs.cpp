@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -14,7 +13,7 @@
 #include "penumbra/shadows/light_weights.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/dcs_counters.hpp"
-#include "penumbra/shadows/wedges/dcs_init.hpp"
+#include "penumbra/shadows/wedges/dcs_frame.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
 #include "penumbra/shadows/wedges/stsv.hpp"
@@ -27,12 +26,7 @@ namespace {
 
 using namespace wedge_pass;
 
-/// Casters with one transmittance: class 0 is opaque (and alpha-textured), the others semi-opaque.
-struct LayerClass {
-  double transmittance = 0.0;
-  std::vector<const Mesh*> meshes;
-  Image<int32_t> centre_counts;  // D(c) of this class per pixel (§4.1.1)
-};
+using dcs::LayerClass;
 
 /// Per tile row: counters of the sampling pass (summed at the end, deterministic).
 struct RowStats {
@@ -368,75 +362,19 @@ Visibility dcs_visibility(const ShadowContext& ctx, const DcsOptions& options,
   if (light.is_textured()) out.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
   if (ctx.want_masks) out.masks = SampleMasks(g.width, g.height, ctx.samples.count());
 
-  // Per-frame setup: pixel boxes and screen setup for the wedges, the shadow-volume pixel part,
-  // the casters' adjacency; the layer classes by transmittance (§4.3.3).
-  auto start = std::chrono::steady_clock::now();
-  const PixelSetup setup = pixel_setup(ctx);
-  CasterMeshes casters = prepared ? *prepared : caster_meshes(ctx.scene);
-  // Forest 2008 §5.3 Algorithm 12 lines 5–6: the perforated triangles leave the opaque machinery.
-  stsv::Perforated perforated;
-  if (options.alpha_stsv) perforated = stsv::take_perforated(ctx.scene, casters);
-  std::vector<LayerClass> classes(1);
-  std::map<float, uint16_t> class_of_t;
-  std::vector<uint16_t> mesh_class(casters.meshes.size(), 0);
-  size_t alpha_triangles = 0;
-  for (size_t m = 0; m < casters.meshes.size(); ++m) {
-    const Material& mat = ctx.scene.material_of(*casters.meshes[m]);
-    if (mat.transmittance > 0.0f) {
-      auto [it, added] =
-          class_of_t.emplace(mat.transmittance, static_cast<uint16_t>(classes.size()));
-      if (added) classes.push_back({std::min(1.0, static_cast<double>(mat.transmittance)), {}, {}});
-      mesh_class[m] = it->second;
-    } else if (mat.alpha_texture >= 0 && !options.alpha_stsv) {
-      alpha_triangles += casters.meshes[m]->triangle_count();
-    }
-    classes[mesh_class[m]].meshes.push_back(casters.meshes[m]);
-  }
-  for (stsv::STriangle& t : perforated.triangles) {  // semi-opaque textured: their class [§5.5]
-    if (t.transmittance <= 0.0f) continue;
-    auto [it, added] = class_of_t.emplace(t.transmittance, static_cast<uint16_t>(classes.size()));
-    if (added) classes.push_back({std::min(1.0, static_cast<double>(t.transmittance)), {}, {}});
-    t.layer_class = it->second;
-  }
-  out.times.add("setup", elapsed_ms(start));
-
-  start = std::chrono::steady_clock::now();
-  const dcs::EdgeSet edges = dcs::build_edges(casters, mesh_class, light, options.silhouettes);
-  out.times.add("silhouettes", elapsed_ms(start));
-
-  // §4.1.1: the constant of integration, the shadow-volume count from the light centre.
-  start = std::chrono::steady_clock::now();
-  const Vec3 centre = hard_shadow_point(light);
-  for (size_t j = 0; j < classes.size(); ++j) {
-    std::vector<const MeshEdges*> class_edges;
-    for (size_t m = 0; m < casters.meshes.size(); ++m)
-      if (mesh_class[m] == j) class_edges.push_back(&casters.edges[m]);
-    classes[j].centre_counts =
-        dcs::centre_counts(ctx, classes[j].meshes, class_edges, centre, setup.volume);
-  }
-  out.times.add("init", elapsed_ms(start));
-
-  // Wedges of every edge and their tile bins (point light: none, the counts are the answer).
-  start = std::chrono::steady_clock::now();
-  BinnedWedges bw;  // group = the wedge's edge
-  const bool area = light.shape != LightShape::point && !edges.edges.empty() && setup.any_active;
-  if (area) {
-    std::vector<WedgeEdge> wedge_edges(edges.edges.size());
-    for (size_t k = 0; k < edges.edges.size(); ++k)
-      wedge_edges[k] = {edges.edges[k].from, edges.edges[k].to, 1.0, static_cast<uint32_t>(k)};
-    bw = build_and_bin(ctx, setup, wedge_edges, wedge_light(light), options.construction);
-  }
-  out.times.add("wedges", elapsed_ms(start));
-
-  // The S-triangles' volumes and their tile bins [Forest 2008 §5.1.2–5.1.3].
-  start = std::chrono::steady_clock::now();
-  const stsv::StsvSet sset = stsv::build_stsv(ctx, setup, std::move(perforated));
-  const double stsv_ms = elapsed_ms(start);
+  double stsv_ms = 0.0;
+  const dcs::Frame frame = dcs::prepare_frame(ctx, options, out, stsv_ms, prepared);
+  const std::vector<LayerClass>& classes = frame.classes;
+  const dcs::EdgeSet& edges = frame.edges;
+  const BinnedWedges& bw = frame.bw;
+  const stsv::StsvSet& sset = frame.stsv;
+  const bool area = frame.area;
+  const size_t alpha_triangles = frame.alpha_triangles;
 
   // Algorithm 7 per pixel, one tile row per task. Each tile's bin is culled again per 4×4 block
   // of pixels (its shadow origins' box against the wedge planes and the straddling weights), so
   // a pixel visits only the edges that can matter near it.
-  start = std::chrono::steady_clock::now();
+  auto start = std::chrono::steady_clock::now();
   Sampler sampler(ctx, options, classes, edges, area ? &bw : nullptr, sset, out);
   const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
   std::vector<RowStats> rows(tiles_y);

@@ -135,6 +135,11 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
   // Pass 2 [Assarsson 2003 III §3.2; Forest 2008 Algorithm 3]: per pixel, every wedge of its tile.
   start = std::chrono::steady_clock::now();
+  if (options.pass2 && !options.overlap && !rgb.out && !tex) {
+    Image<float> vis = options.pass2(ctx, light, bw, count);
+    st.pass2_ms += elapsed_ms(start);
+    return vis;
+  }
   PassCounters pc;
   Image<float> vis = run_pass2(
       ctx, light, bw, pc,
@@ -366,19 +371,25 @@ void register_wedges(MethodRegistry& registry) {
        "bilinear in both (quadrilinear), Assarsson 2003 III 3.3",
        {"bilinear", "quadrilinear"}},
   };
-  info.create = [](const MethodOptions& o) {
-    WedgeOptions w;
-    w.construction = wedge_construction_of(o);
-    w.split = o.get_int("split");
-    w.alpha_stsv = stsv::uses_stsv(o);
-    w.overlap = o.get_bool("overlap");
-    w.texture = o.get_choice("coverage") == "texture";
-    w.texture_n = o.get_int("texture_n");
-    w.lookup = o.get_choice("lookup") == "quadrilinear" ? CoverageTexture::Lookup::quadrilinear
-                                                        : CoverageTexture::Lookup::bilinear;
-    return std::make_unique<Wedges>(w);
-  };
+  info.create = [](const MethodOptions& o) { return make_wedges(wedge_options_of(o)); };
   registry.add(std::move(info));
+}
+
+WedgeOptions wedge_options_of(const MethodOptions& o) {
+  WedgeOptions w;
+  w.construction = wedge_construction_of(o);
+  w.split = o.get_int("split");
+  w.alpha_stsv = stsv::uses_stsv(o);
+  w.overlap = o.get_bool("overlap");
+  w.texture = o.get_choice("coverage") == "texture";
+  w.texture_n = o.get_int("texture_n");
+  w.lookup = o.get_choice("lookup") == "quadrilinear" ? CoverageTexture::Lookup::quadrilinear
+                                                      : CoverageTexture::Lookup::bilinear;
+  return w;
+}
+
+std::unique_ptr<ShadowMethod> make_wedges(WedgeOptions options) {
+  return std::make_unique<Wedges>(std::move(options));
 }
 
 OptionSpec wedge_construction_option() {

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "penumbra/shadows/method.hpp"
@@ -32,6 +33,10 @@
 #include "penumbra/shadows/wedges/stsv.hpp"
 
 namespace penumbra {
+
+namespace wedge_pass {
+struct BinnedWedges;
+}
 
 struct WedgeOptions {
   /// The wedge construction [wedges/geometry.hpp]: Assarsson 2003 III §3.1 / IV §4.1 (moved
@@ -54,6 +59,12 @@ struct WedgeOptions {
   bool alpha_stsv = true;
   /// The table, built by wedge_visibility when null (the method builds it once).
   std::shared_ptr<const CoverageTexture> table;
+  /// Pass 2 done elsewhere (the Vulkan backend) where it is the plain sum — no overlap
+  /// approximation, analytic coverage, an untextured light: V per pixel of (sub-)light `light`
+  /// from the layered hard counts and the binned wedges. Null: the CPU's pass.
+  std::function<Image<float>(const ShadowContext& ctx, const Light& light,
+                             const wedge_pass::BinnedWedges& wedges, const Image<float>& count)>
+      pass2;
 };
 
 struct WedgeStats {
@@ -88,5 +99,10 @@ WedgeConstruction wedge_construction_of(const MethodOptions& options);
 Image<float> wedge_visibility(const ShadowContext& ctx, const WedgeOptions& options,
                               WedgeStats* stats = nullptr, Image<Vec3>* lit_rgb = nullptr,
                               const wedge_pass::CasterMeshes* prepared = nullptr);
+
+/// The `wedges` options of a method's option values, and the method for given options (the
+/// registry's entry is make_wedges(wedge_options_of(o))).
+WedgeOptions wedge_options_of(const MethodOptions& options);
+std::unique_ptr<ShadowMethod> make_wedges(WedgeOptions options);
 
 }  // namespace penumbra

@@ -1,0 +1,79 @@
+// GEARS step 4 on the GPU, shared by the row-span (gears_raster.comp) and per-sample
+// (gears_samples.comp) rasterizers: the four lines of a triangle seen from a pixel and the alpha
+// test at a sample, the CPU's arithmetic (shadows/gears/raster.cpp) operation for operation.
+// Expects a push-constant block `pc` with `tris`, `alpha` and `texels`.
+
+/// Does alpha-tested triangle t block the light point (su, sv)? The texture decides at the
+/// barycentrics of the sample's ray (the CPU's hit_barycentrics and Texture::texel_index).
+bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, float sv) {
+  const vec4 h = pc.alpha.v[3u * t];
+  const vec4 uv01 = pc.alpha.v[3u * t + 1u];
+  const vec2 uv2 = pc.alpha.v[3u * t + 2u].xy;
+  precise float e0 = la[0] + lb[0] * su + lc[0] * sv;  // ∝ λ_C
+  precise float e1 = la[1] + lb[1] * su + lc[1] * sv;  // ∝ λ_A
+  precise float e2 = la[2] + lb[2] * su + lc[2] * sv;  // ∝ λ_B
+  precise float sum = e0 + e1 + e2;
+  precise float bu = sum > 0.0 ? e2 / sum : 0.0, bv = sum > 0.0 ? e0 / sum : 0.0;
+  precise vec2 uv = (1.0 - bu - bv) * uv01.xy + bu * uv01.zw + bv * uv2;
+  const int width = int(h.y), height = int(h.z);
+  const float u = uv.x - floor(uv.x), v = uv.y - floor(uv.y);
+  const int tx = min(width - 1, max(0, int(u * float(width))));
+  const int ty = min(height - 1, max(0, int(v * float(height))));
+  return pc.texels.v[floatBitsToUint(h.x) + uint(ty * width + tx)] != 0u;
+}
+
+// max/min as the CPU's vector code writes them (a NaN operand picks b).
+float vmax(float a, float b) { return a > b ? a : b; }
+float vmin(float a, float b) { return a < b ? a : b; }
+
+/// u × w with u, w in lexicographic order; `sgn` = +1 when that order is (u, w), else −1.
+vec3 edge_normal(vec3 u, vec3 w, out float sgn) {
+  const bool before = u.x < w.x || (u.x == w.x && (u.y < w.y || (u.y == w.y && u.z <= w.z)));
+  const vec3 p0 = before ? u : w, p1 = before ? w : u;
+  sgn = before ? 1.0 : -1.0;
+  precise vec3 r = vec3(p0.y * p1.z - p0.z * p1.y, p0.z * p1.x - p0.x * p1.z,
+                        p0.x * p1.y - p0.y * p1.x);
+  return r;
+}
+
+/// The four lines of triangle t seen from pixel point p (light point X(u, v) = p + w + u·eu + v·ev):
+/// t blocks (u, v) iff la[m] + lb[m]·u + lc[m]·v ≥ 0 for m = 0..3 (shadows/gears/raster.hpp
+/// LineBatch). False when no point of the sample box [uv_lo, uv_hi] can pass all four.
+bool triangle_lines(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, vec2 uv_lo, vec2 uv_hi,
+                    out float out_a[4], out float out_b[4], out float out_c[4]) {
+  precise vec3 A = pc.tris.v[3u * t].xyz - p;
+  precise vec3 B = pc.tris.v[3u * t + 1u].xyz - p;
+  precise vec3 C = pc.tris.v[3u * t + 2u].xyz - p;
+  // Edge-plane normals n0 = a×b, n1 = b×c, n2 = c×a, each from its two vertices in a canonical
+  // (lexicographic) order and then signed for this triangle, so that two triangles sharing an
+  // edge get exactly opposite lines (watertight, as on the CPU).
+  precise vec3 n[3];
+  float sgn[3];
+  n[0] = edge_normal(A, B, sgn[0]);
+  n[1] = edge_normal(B, C, sgn[1]);
+  n[2] = edge_normal(C, A, sgn[2]);
+  precise float det = sgn[1] * (A.x * n[1].x + A.y * n[1].y + A.z * n[1].z);
+  if (det == 0.0) return false;
+  const float s = det > 0.0 ? 1.0 : -1.0;
+  precise float la[4], lb[4], lc[4];
+  [[unroll]] for (int m = 0; m < 3; ++m) {
+    const float sm = s * sgn[m];
+    la[m] = sm * (n[m].x * w.x + n[m].y * w.y + n[m].z * w.z);
+    lb[m] = sm * (n[m].x * eu.x + n[m].y * eu.y + n[m].z * eu.z);
+    lc[m] = sm * (n[m].x * ev.x + n[m].y * ev.y + n[m].z * ev.z);
+  }
+  // The plane: the segment reaches the triangle (t ≤ 1) iff Σ s·e_i(X) ≥ |det|.
+  la[3] = la[0] + la[1] + la[2] - s * det;
+  lb[3] = lb[0] + lb[1] + lb[2];
+  lc[3] = lc[0] + lc[1] + lc[2];
+  // Can every line be non-negative somewhere in the samples' bounding box?
+  [[unroll]] for (int m = 0; m < 4; ++m) {
+    precise float best = la[m] + vmax(lb[m] * uv_lo.x, lb[m] * uv_hi.x) +
+                         vmax(lc[m] * uv_lo.y, lc[m] * uv_hi.y);
+    if (!(best >= 0.0)) return false;
+  }
+  out_a = la;
+  out_b = lb;
+  out_c = lc;
+  return true;
+}

@@ -1,0 +1,88 @@
+#version 460
+// GEARS step 4, per sample [Wang 2014 §4.2]: per pixel, every triangle of its cell tested against
+// each light sample by its four lines (shadows/gears/raster.cpp raster_samples, operation for
+// operation, `precise`): any sample positions — irregular and per-pixel patterns, k up to 64, a
+// point light (one sample at the light). The pixel's mask is `words` 32-bit words, sample s at bit
+// s % 32 of word s / 32; only emitting samples are kept.
+//
+// Loops: a dispatch walks at most `chunk` triangles of a cell (llvmpipe stops an invocation after
+// 65535 loop iterations in all; a triangle costs one per sample, plus the alpha tests).
+#extension GL_EXT_control_flow_attributes : require
+#include "common.glsl"
+
+const int kMaxWords = 128;  // 64 × 64 samples
+
+layout(push_constant) uniform Push {
+  Vec4s pix;   // per active pixel: p, w, eu, ev
+  Vec4s tris;  // 3 per triangle
+  Uints cell;  // per active pixel (~0: other side)
+  Uints begin;
+  Uints end;
+  Uints vals;       // sorted triangle ids
+  Uints words_out;  // `words` per active pixel
+  Uints emit;       // `words` (shared) or `words` per active pixel (per_pixel)
+  Floats samples;   // light uv of sample s at 2s, 2s + 1 (shared) or per active pixel (per_pixel)
+  Vec4s alpha;      // 3 per triangle: (texel offset, width, height, 1 = alpha-tested), uv0 uv1, uv2
+  Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
+  uint n;
+  uint ns;     // samples tested (1 for a point light)
+  uint words;  // ⌈ns / 32⌉
+  uint first;  // this dispatch: entries [first, first + chunk) of each cell's list
+  uint chunk;
+  uint per_pixel;  // samples and emitting bits per pixel
+  vec2 uv_lo;      // bounding box of the sample positions
+  vec2 uv_hi;
+} pc;
+
+#include "gears_lines.glsl"
+
+void main() {
+  const uint a = global_id();
+  if (a >= pc.n) return;
+  const uint c = pc.cell.v[a];
+  if (c == 0xffffffffu) return;
+  const vec3 p = pc.pix.v[4u * a].xyz;
+  const vec3 w = pc.pix.v[4u * a + 1u].xyz;
+  const vec3 eu = pc.pix.v[4u * a + 2u].xyz;
+  const vec3 ev = pc.pix.v[4u * a + 3u].xyz;
+  const uint e0 = pc.begin.v[c] + pc.first, e1 = min(pc.end.v[c], e0 + pc.chunk);
+  if (e0 >= e1) return;
+  const uint base = a * pc.words;
+  const uint emit_base = pc.per_pixel != 0u ? base : 0u;
+  const uint sample_base = pc.per_pixel != 0u ? 2u * a * pc.ns : 0u;
+  uint bits[kMaxWords];
+  bool full = true;
+  for (uint i = 0u; i < pc.words; ++i) {
+    bits[i] = pc.words_out.v[base + i];
+    const uint em = pc.emit.v[emit_base + i];
+    full = full && (bits[i] & em) == em;
+  }
+  for (uint e = e0; e < e1 && !full; ++e) {
+    const uint t = pc.vals.v[e];
+    float la[4], lb[4], lc[4];
+    if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) continue;
+    const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
+    bool any = false;
+    for (uint s = 0u; s < pc.ns; ++s) {
+      const float su = pc.samples.v[sample_base + 2u * s];
+      const float sv = pc.samples.v[sample_base + 2u * s + 1u];
+      precise const float h0 = la[0] + lb[0] * su + lc[0] * sv;
+      precise const float h1 = la[1] + lb[1] * su + lc[1] * sv;
+      precise const float h2 = la[2] + lb[2] * su + lc[2] * sv;
+      precise const float h3 = la[3] + lb[3] * su + lc[3] * sv;
+      if (!(h0 >= 0.0 && h1 >= 0.0 && h2 >= 0.0 && h3 >= 0.0)) continue;
+      if (alpha_tested && !alpha_blocks_at(t, la, lb, lc, su, sv)) continue;
+      bits[s >> 5] |= 1u << (s & 31u);
+      any = true;
+    }
+    if (any) {
+      // Every emitting sample blocked: no later triangle can change the mask.
+      full = true;
+      for (uint i = 0u; i < pc.words; ++i) {
+        const uint em = pc.emit.v[emit_base + i];
+        full = full && (bits[i] & em) == em;
+      }
+    }
+  }
+  for (uint i = 0u; i < pc.words; ++i) pc.words_out.v[base + i] = bits[i] & pc.emit.v[emit_base + i];
+}
