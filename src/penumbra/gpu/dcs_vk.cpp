@@ -16,7 +16,9 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
+#include <utility>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
@@ -265,6 +267,13 @@ class DcsVk final : public ShadowMethod {
     options_.alpha_stsv = stsv::uses_stsv(o);
   }
 
+  /// The casters' adjacency is scene-static, as for the CPU dcs.
+  void prepare(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    casters_ = std::make_unique<const wedge_pass::CasterMeshes>(wedge_pass::caster_meshes(scene));
+    unreported_prepare_ms_ = elapsed_ms(start);
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     VulkanContext& vk = backend_.context();
     if (!vk.has_float64())
@@ -279,7 +288,8 @@ class DcsVk final : public ShadowMethod {
     if (ctx.want_masks) out.masks = SampleMasks(g.width, g.height, n);
 
     double stsv_ms = 0.0;
-    const Frame fr = dcs::prepare_frame(ctx, options_, out, stsv_ms);
+    const Frame fr = dcs::prepare_frame(ctx, options_, out, stsv_ms, casters_.get());
+    out.times.add("setup", std::exchange(unreported_prepare_ms_, 0.0));
     auto t0 = std::chrono::steady_clock::now();
     std::vector<uint32_t> active;
     for (size_t i = 0; i < g.pixel_count(); ++i)
@@ -434,6 +444,8 @@ class DcsVk final : public ShadowMethod {
 
   Backend& backend_;
   DcsOptions options_;
+  std::unique_ptr<const wedge_pass::CasterMeshes> casters_;
+  double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace
