@@ -23,21 +23,6 @@ using test::grid_samples;
 using test::make_test_frame;
 using test::round_light_scene;
 
-/// Largest |V_a − V_b| (and of the RGB channels when both have them) over the active pixels.
-double max_v_diff(const test::TestFrame& t, const MethodResult& a, const MethodResult& b) {
-  const Visibility& va = a.per_light[0];
-  const Visibility& vb = b.per_light[0];
-  double m = 0.0;
-  for (size_t i = 0; i < va.lit.size(); ++i) {
-    if (t.frame->receivers(0)[i] != kActive) continue;
-    m = std::max(m, std::abs(static_cast<double>(va.lit[i]) - vb.lit[i]));
-    if (va.lit_rgb && vb.lit_rgb)
-      for (int c = 0; c < 3; ++c)
-        m = std::max(m, std::abs(static_cast<double>((*va.lit_rgb)[i][c]) - (*vb.lit_rgb)[i][c]));
-  }
-  return m;
-}
-
 /// GPU dcs against the CPU dcs (identical masks and V) and, where the CPU dcs is raytrace's
 /// answer, against raytrace.
 void check_frame(gpu::Backend& backend, const test::TestFrame& t, const std::string& name,
@@ -49,10 +34,11 @@ void check_frame(gpu::Backend& backend, const test::TestFrame& t, const std::str
   const test::MaskAgreement vs_cpu = test::compare_masks(t, cpu, gpu, false);
   std::printf("%s: %llu pairs, %d blocked, %llu differ from the CPU dcs, max |dV| %.3g\n",
               name.c_str(), static_cast<unsigned long long>(vs_cpu.pairs), vs_cpu.blocked,
-              static_cast<unsigned long long>(vs_cpu.differ), max_v_diff(t, cpu, gpu));
+              static_cast<unsigned long long>(vs_cpu.differ),
+              test::visibility_diff(t, cpu, gpu).max);
   EXPECT_GT(vs_cpu.blocked, min_blocked);
   EXPECT_EQ(vs_cpu.differ, 0u);
-  EXPECT_EQ(max_v_diff(t, cpu, gpu), 0.0);
+  EXPECT_EQ(test::visibility_diff(t, cpu, gpu).max, 0.0);
   if (vs_raytrace)
     test::expect_equal_masks(test::compare_masks(t, t.run("raytrace", {}, true), gpu));
   EXPECT_EQ(backend.context().validation_messages(), 0u);

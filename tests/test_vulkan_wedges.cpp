@@ -27,21 +27,12 @@ void check_frame(gpu::Backend& backend, const test::TestFrame& t, const std::str
   const MethodResult gpu = test::run_vulkan(backend, t, "wedges", options);
   const MethodResult cpu = t.run("wedges", options);
   const Visibility &g = gpu.per_light[0], &c = cpu.per_light[0];
-  double max_diff = 0.0, sum_diff = 0.0;
-  int active = 0, penumbra = 0;
-  for (size_t i = 0; i < c.lit.size(); ++i) {
-    if (t.frame->receivers(0)[i] != kActive) continue;
-    ++active;
-    penumbra += c.lit[i] > 0.01f && c.lit[i] < 0.99f;
-    const double d = std::abs(static_cast<double>(c.lit[i]) - g.lit[i]);
-    max_diff = std::max(max_diff, d);
-    sum_diff += d;
-  }
+  const test::VisibilityDiff d = test::visibility_diff(t, cpu, gpu, 0.01f, 0.99f);  // penumbra
   std::printf("%s: %d active pixels, %d in penumbra, max |dV| %.3g, mean %.3g\n", name.c_str(),
-              active, penumbra, max_diff, sum_diff / std::max(1, active));
-  EXPECT_GT(penumbra, 50);
-  EXPECT_LE(max_diff, max_bound);
-  EXPECT_LE(sum_diff / std::max(1, active), 1e-4);
+              d.active, d.between, d.max, d.mean);
+  EXPECT_GT(d.between, 50);
+  EXPECT_LE(d.max, max_bound);
+  EXPECT_LE(d.mean, 1e-4);
   EXPECT_EQ(g.counters.at("wedges"), c.counters.at("wedges"));
   EXPECT_EQ(backend.context().validation_messages(), 0u);
 }

@@ -6,9 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "penumbra/gpu/backend.hpp"
+#include "penumbra/render/receivers.hpp"
 #include "support/frame_helpers.hpp"
 
 namespace penumbra::test {
@@ -30,6 +33,34 @@ inline MethodResult run_vulkan(gpu::Backend& backend, const TestFrame& t, const 
                                bool want_masks = false) {
   const MethodInfo info = backend.vulkan_method(MethodRegistry::builtin().get(method));
   return t.frame->run(info, resolve_options(info, options), want_masks);
+}
+
+/// |V_a − V_b| of light 0 over the active pixels (RGB channels too, where both have them).
+struct VisibilityDiff {
+  double max = 0.0, mean = 0.0;
+  int active = 0;
+  int between = 0;  // active pixels whose V_a lies in (lo, hi) (see visibility_diff)
+};
+
+inline VisibilityDiff visibility_diff(const TestFrame& t, const MethodResult& a,
+                                      const MethodResult& b, float lo = 0.0f, float hi = 1.0f) {
+  const Visibility& va = a.per_light[0];
+  const Visibility& vb = b.per_light[0];
+  VisibilityDiff d;
+  double sum = 0.0;
+  for (size_t i = 0; i < va.lit.size(); ++i) {
+    if (t.frame->receivers(0)[i] != kActive) continue;
+    ++d.active;
+    d.between += va.lit[i] > lo && va.lit[i] < hi;
+    double m = std::abs(static_cast<double>(va.lit[i]) - vb.lit[i]);
+    sum += m;
+    if (va.lit_rgb && vb.lit_rgb)
+      for (int c = 0; c < 3; ++c)
+        m = std::max(m, std::abs(static_cast<double>((*va.lit_rgb)[i][c]) - (*vb.lit_rgb)[i][c]));
+    d.max = std::max(d.max, m);
+  }
+  d.mean = sum / std::max(1, d.active);
+  return d;
 }
 
 }  // namespace penumbra::test
