@@ -33,8 +33,14 @@ panel_x=512
 view() {  # view LOG ARGS...: runs the viewer on a virtual display
   local log="$1"
   shift
-  timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" "$bin" view --size 64x64 --samples 4 "$@" \
-    >"$log" 2>&1
+  # The viewer's own exit status, written beside the log: xvfb-run's clean-up (`set -e`, xauth)
+  # sometimes failed under load and replaced it (exit 5 for a viewer that had returned 1).
+  rm -f "$log.rc"
+  timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" sh -c '"$@"; echo $? >"$0"' "$log.rc" \
+    "$bin" view --size 64x64 --samples 4 "$@" >"$log" 2>&1
+  local code=$?
+  if [ -s "$log.rc" ]; then code="$(cat "$log.rc")"; fi
+  return "$code"
 }
 max_abs() {  # max_abs A.exr B.exr: compare's max |ΔV|
   "$bin" compare "$1" "$2" --out "cmp_$(basename "$1" .exr)" >/dev/null 2>&1 &&
