@@ -10,6 +10,7 @@
 #include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
 #include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/report/report.hpp"
 #include "penumbra/scene/scene_writer.hpp"
 
 namespace penumbra::viewer {
@@ -100,9 +101,7 @@ void Viewer::edited() {
 }
 
 std::string reference_label(const ViewerArgs& args) {
-  if (args.reference == "exact") return "exact";
-  const std::string k = std::to_string(args.reference_samples);
-  return "raytrace " + k + "×" + k;
+  return report::reference_label(args.reference, args.reference_samples);
 }
 
 bool Viewer::method_is_reference() const {

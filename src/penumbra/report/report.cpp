@@ -34,10 +34,8 @@ std::string reference_name(const ReportSpec& spec) {
   return "raytrace_" + std::to_string(spec.reference_k) + "x" + std::to_string(spec.reference_k);
 }
 
-/// The same for people: `exact`, or `raytrace 64×64`.
 std::string reference_label(const ReportSpec& spec) {
-  if (spec.reference == "exact") return "exact";
-  return "raytrace " + std::to_string(spec.reference_k) + "×" + std::to_string(spec.reference_k);
+  return report::reference_label(spec.reference, spec.reference_k);
 }
 
 Run run_one(const Frame& frame, const MethodInfo& info, const MethodOptions& options,
@@ -256,6 +254,11 @@ SweepEntry run_sweep(const std::string& sweep, const ReportSpec& spec) {
 }
 
 }  // namespace
+
+std::string reference_label(const std::string& reference, int k) {
+  if (reference == "exact") return "exact";
+  return reference + " " + std::to_string(k) + "×" + std::to_string(k);
+}
 
 const std::vector<std::string>& sweep_names() {
   static const std::vector<std::string> names = {"samples", "light_size", "resolution"};

@@ -32,6 +32,10 @@ struct ReportSpec {
   std::filesystem::path out_dir;
 };
 
+/// A reference's name for people: `exact`, or `raytrace K×K` (`reference` "raytrace" with
+/// `k` × `k` samples). The report and the viewer name their reference so.
+std::string reference_label(const std::string& reference, int k);
+
 /// The sweeps `penumbra report --sweep` knows.
 const std::vector<std::string>& sweep_names();
 

@@ -121,11 +121,6 @@ bool is_reference(const SceneEntry& s, const MethodEntry& m) {
   return !s.methods.empty() && &m == &s.methods.front();
 }
 
-/// The reference's V in formulas: V_exact, or V_ref for a ray-traced reference.
-std::string v_ref(const std::string& reference) {
-  return reference == "exact" ? "V_exact" : "V_ref";
-}
-
 /// Rays per pixel `raytrace` traces in the method's time (summary_table.hpp).
 double rays_in_same_time(const SceneEntry& s, const MethodEntry& m) {
   const MethodEntry* rt = s.find("raytrace");
@@ -173,11 +168,11 @@ std::string legends(const SceneEntry& s) {
   o << "<div class='legend'>"
     << plot::color_bar_svg(abs_error_colors(), 0.0, e,
                            {{0.0, "0"}, {e / 2, plot::tick_label(e / 2)}, {e, "≥ " + scale}},
-                           "|V − " + v_ref(s.reference) + "| (fraction of the light, 0–1)")
+                           "|V − " + reference_v(s.reference) + "| (fraction of the light, 0–1)")
     << plot::color_bar_svg(
            signed_error_colors(), -e, e,
            {{-e, "≤ −" + scale + " (too dark)"}, {0.0, "0"}, {e, "(too bright) ≥ +" + scale}},
-           "V − " + v_ref(s.reference) + " (signed)")
+           "V − " + reference_v(s.reference) + " (signed)")
     << "<p class='note'>One scale for every method of this scene: " << scale
     << " (the median over the methods of their 99th-percentile error, rounded up; larger "
        "errors saturate). Grey: background. Light 0 only.</p></div>\n";
@@ -271,7 +266,7 @@ std::string scene_section(const SceneEntry& s) {
   o << "<section class='scene' id='scene-" << xml_escape(s.folder) << "'>\n<h2>"
     << xml_escape(s.name) << "</h2>\n<p class='meta'>" << xml_escape(s.summary_header)
     << "</p>\n<p class='meta'>" << xml_escape(frame_stages(s)) << "</p>\n";
-  const std::string vr = v_ref(s.reference);
+  const std::string vr = reference_v(s.reference);
   o << "<h3>Beauty: the reference (" << xml_escape(s.reference) << ") and every method</h3>\n"
     << figure_grid(s, "", true, "beauty", false);
   o << "<h3>Error maps on one scale</h3>\n"
@@ -318,7 +313,7 @@ std::string error_vs_time(const ReportData& d) {
   plot::Chart chart;
   chart.title = "Error against time: lower left is better";
   chart.x = {"method time (ms, log scale)", plot::Scale::log10};
-  chart.y = {"mean |V − " + v_ref(d.reference) + "| over shadowed pixels (log scale)",
+  chart.y = {"mean |V − " + reference_v(d.reference) + "| over shadowed pixels (log scale)",
              plot::Scale::log10};
   chart.width = 860;
   chart.height = 480;
@@ -336,7 +331,7 @@ std::string sweep_charts(const SweepEntry& sw, const std::string& reference) {
   e.width = 600;
   e.title = "Error vs " + sw.name + " (" + sw.scene + ")";
   e.x = {sw.x_label, plot::Scale::log2};
-  e.y = {"mean |V − " + v_ref(reference) + "| over shadowed pixels", plot::Scale::log10};
+  e.y = {"mean |V − " + reference_v(reference) + "| over shadowed pixels", plot::Scale::log10};
   plot::Chart t = e;
   t.title = "Time vs " + sw.name + " (" + sw.scene + ")";
   t.y = {"method time (ms)", plot::Scale::log10};

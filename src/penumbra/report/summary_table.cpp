@@ -63,8 +63,12 @@ std::string format_table(const std::vector<TableRow>& rows, int samples) {
   return out;
 }
 
+std::string reference_v(const std::string& reference) {
+  return reference == "exact" ? "V_exact" : "V_ref";
+}
+
 std::string table_column_key(const std::string& reference) {
-  const std::string v_ref = reference == "exact" ? "V_exact" : "V_ref";
+  const std::string v_ref = reference_v(reference);
   return "- **time**: the method's own time for every light of the frame, in milliseconds (the "
          "shared BVH and G-buffer excluded); wall-clock, so it varies with the machine's load.\n"
          "- **speed vs raytrace**: `raytrace` time / method time, both from this run "

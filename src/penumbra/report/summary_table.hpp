@@ -34,6 +34,9 @@ std::string format_table(const std::vector<TableRow>& rows, int samples);
 /// [Wang 2014 Table 11]. NaN without a positive raytrace time.
 double equal_time_rays(int samples, double raytrace_ms, double method_ms);
 
+/// The reference's V in formulas: V_exact for `exact`, V_ref for any other reference.
+std::string reference_v(const std::string& reference);
+
 /// What each column of format_table means (Markdown list); `reference` names what the errors are
 /// against (`exact`, or e.g. `raytrace 64×64`).
 std::string table_column_key(const std::string& reference = "exact");
