@@ -33,7 +33,7 @@ set(penumbra_public_module_headers
   core/error.hpp core/image.hpp core/light_samples.hpp core/math.hpp core/stats.hpp
   render/gbuffer.hpp render/visibility.hpp
   scene/camera.hpp scene/light.hpp scene/material.hpp scene/mesh.hpp scene/model_scene.hpp
-  scene/scene.hpp scene/scene_file.hpp scene/texture.hpp
+  scene/animation.hpp scene/scene.hpp scene/scene_file.hpp scene/texture.hpp
   shadows/method.hpp shadows/registry.hpp
   metrics/error_metrics.hpp)
 

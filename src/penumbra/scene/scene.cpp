@@ -99,6 +99,7 @@ void recentre_scene(Scene& scene) {
   for (Light& l : scene.lights) moved(l.center);
   moved(scene.camera.position);
   moved(scene.camera.target);
+  recentre_animation(scene.animation, offset);
   scene.origin += offset;
 }
 
@@ -139,6 +140,7 @@ size_t validate_scene(Scene& scene) {
     removed += remove_degenerate_triangles(mesh);
   }
   require(scene.triangle_count() > 0, "scene has no (non-degenerate) triangles");
+  validate_animation(scene);
   // Before the light and camera checks, which then judge the coordinates methods will use.
   recentre_scene(scene);
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "penumbra/scene/animation.hpp"
 #include "penumbra/scene/camera.hpp"
 #include "penumbra/scene/light.hpp"
 #include "penumbra/scene/material.hpp"
@@ -24,6 +25,8 @@ struct Scene {
   /// from the world origin are moved next to it (recentre_scene), so that float resolution and
   /// the self-intersection offset are those of a scene at the origin.
   DVec3 origin{0.0};
+  /// Keyframed motion over time (empty: a still scene); the members above are its rest pose.
+  Animation animation;
 
   Bounds3 bounds() const;  // of all meshes
   size_t triangle_count() const;
