@@ -40,7 +40,8 @@ compile() {  # compile OBJ_DIR COMPILER FLAGS... -- SOURCES...: fills `objects`
     if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ "$newest_header" -nt "$obj" ]; then
       while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n; done
       echo "compiling $src"
-      "$compiler" "${cflags[@]}" -c "$src" -o "$obj" &
+      # shellcheck disable=SC2086 # "ccache clang++" is two words
+      $compiler "${cflags[@]}" -c "$src" -o "$obj" &
       pids+=($!)
     fi
     objects+=("$obj")
@@ -48,7 +49,13 @@ compile() {  # compile OBJ_DIR COMPILER FLAGS... -- SOURCES...: fills `objects`
   local pid
   for pid in "${pids[@]}"; do wait "$pid"; done
 }
-compile "$out/obj" clang++ \
+# Through ccache when it is installed (as scripts/build.sh does).
+cxx=(clang++)
+if command -v ccache >/dev/null; then
+  cxx=(ccache clang++)
+  export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
+fi
+compile "$out/obj" "${cxx[*]}" \
   "${flags[@]/-fsanitize=fuzzer,address,undefined/-fsanitize=fuzzer-no-link,address,undefined}" \
   -- "${sources[@]}"
 for t in "${targets[@]}"; do

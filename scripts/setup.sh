@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config clang-format
+  ccache  # scripts/build.sh and scripts/fuzz.sh: rebuilds compile only what changed
   libhwy-dev  # Highway: runtime SIMD dispatch of the hot kernels
   libembree-dev libtbb-dev libassimp-dev libglm-dev libstb-dev
   libcli11-dev nlohmann-json3-dev libopenexr-dev
