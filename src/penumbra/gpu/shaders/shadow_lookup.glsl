@@ -58,9 +58,10 @@ layout(push_constant) uniform Push {
 } pc;
 
 LookupParams P;
-rvec3 p_, n_, eye_, right_, up_, forward_;
+rvec3 eye_, right_, up_, forward_;
 real tan_x_, tan_y_, texel_tan_, bias_constant_, bias_slope_, light_width_, max_radius_;
 real sx_, sy_, depth_, bias_, plane_num_;
+real den0_, den_di_, den_dj_;  // n · (direction through texel centre (i, j)), affine in i, j
 
 void load_params() {
 #ifdef LOOKUP_F64
@@ -83,10 +84,7 @@ float stored(int i, int j) {
 }
 
 real plane_depth(int i, int j) {
-  const real r = real(P.resolution);
-  const rvec3 dir = forward_ + (2.0 * (real(i) + 0.5) / r - 1.0) * tan_x_ * right_ +
-                    (1.0 - 2.0 * (real(j) + 0.5) / r) * tan_y_ * up_;
-  const real den = dot(n_, dir);
+  const real den = den0_ + real(i) * den_di_ + real(j) * den_dj_;
   const real t = plane_num_ / den;
   if (!(abs(den) > 1e-12) || !(t > 0.0) || t > 4.0 * depth_ || t < 0.25 * depth_) return depth_;
   return t;
@@ -95,8 +93,6 @@ real plane_depth(int i, int j) {
 bool blocked(int i, int j) { return stored(i, j) < plane_depth(i, j) - bias_; }
 
 bool setup(rvec3 p, rvec3 n) {
-  p_ = p;
-  n_ = n;
   const rvec3 rel = p - eye_;
   const real w = dot(rel, forward_);
   if (!(w > 0.0)) return false;
@@ -109,6 +105,12 @@ bool setup(rvec3 p, rvec3 n) {
   const real tan_t = min(sqrt(1.0 - cos_t * cos_t) / cos_t, real(100.0));
   bias_ = bias_constant_ + bias_slope_ * texel_tan_ * depth_ * tan_t;
   plane_num_ = dot(n, p - eye_);
+  // As ShadowMapLookup::setup, term for term.
+  const real n_right = tan_x_ * dot(n, right_);
+  const real n_up = tan_y_ * dot(n, up_);
+  den_di_ = 2.0 * n_right / r;
+  den_dj_ = -2.0 * n_up / r;
+  den0_ = dot(n, forward_) + (1.0 / r - 1.0) * n_right + (1.0 - 1.0 / r) * n_up;
   return true;
 }
 

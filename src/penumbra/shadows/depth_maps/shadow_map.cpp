@@ -63,8 +63,6 @@ DepthMap receiver_fitted_depth_map(const ShadowContext& ctx, const Vec3& light_p
 }
 
 bool ShadowMapLookup::setup(const DVec3& p, const DVec3& n) {
-  p_ = p;
-  n_ = n;
   if (!map_.project(p, sx_, sy_, depth_)) return false;
   // Slope-scaled term: depth change across one texel on a receiver tilted by θ from the light ray.
   const DVec3 to_light = glm::normalize(map_.proj.eye - p);
@@ -72,13 +70,21 @@ bool ShadowMapLookup::setup(const DVec3& p, const DVec3& n) {
   const double tan_t = std::min(std::sqrt(1.0 - cos_t * cos_t) / cos_t, 100.0);
   bias_ = bias_constant_ + bias_slope_ * map_.texel_tan * depth_ * tan_t;
   plane_num_ = glm::dot(n, p - map_.proj.eye);
+  // n · (ray direction through texel centre (i, j)) is affine in (i, j): its three coefficients
+  // once here leave two multiply-adds per tap (Projection::direction expanded).
+  const Projection& proj = map_.proj;
+  const double w = proj.width, h = proj.height;
+  const double n_right = proj.tan_half_x * glm::dot(n, proj.right);
+  const double n_up = proj.tan_half_y * glm::dot(n, proj.up);
+  den_di_ = 2.0 * n_right / w;
+  den_dj_ = -2.0 * n_up / h;
+  den0_ = glm::dot(n, proj.forward) + (1.0 / w - 1.0) * n_right + (1.0 - 1.0 / h) * n_up;
   return true;
 }
 
 double ShadowMapLookup::plane_depth(int i, int j) const {
   // Ray from the light through the texel centre, with unit forward component: depth = t.
-  const DVec3 dir = map_.proj.direction(i + 0.5, j + 0.5);
-  const double den = glm::dot(n_, dir);
+  const double den = den0_ + i * den_di_ + j * den_dj_;
   const double t = plane_num_ / den;
   // Grazing or behind: fall back to the receiver's own depth.
   if (!(std::abs(den) > 1e-12) || !(t > 0.0) || t > 4.0 * depth_ || t < 0.25 * depth_)

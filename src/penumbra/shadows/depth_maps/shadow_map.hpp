@@ -67,8 +67,8 @@ class ShadowMapLookup {
 
   const DepthMap& map_;
   double bias_constant_, bias_slope_;
-  DVec3 p_{0.0}, n_{0.0};
   double sx_ = 0.0, sy_ = 0.0, depth_ = 0.0, bias_ = 0.0, plane_num_ = 0.0;
+  double den0_ = 0.0, den_di_ = 0.0, den_dj_ = 0.0;  // n · direction(i + ½, j + ½), affine
 };
 
 }  // namespace penumbra
