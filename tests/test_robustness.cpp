@@ -26,6 +26,7 @@
 #include "penumbra/shadows/registry.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
+#include "support/test_support.hpp"
 
 namespace penumbra {
 namespace {
@@ -98,7 +99,7 @@ TEST(Messages, DidYouMean) {
 // ---- meshes ------------------------------------------------------------------------------------
 
 std::string mesh_data(const std::string& file) {
-  return std::string(PENUMBRA_TEST_DATA) + "/meshes/broken/" + file;
+  return test::data_path("meshes/broken/" + file);
 }
 
 // OFF and PLY are validated in full before assimp reads them: each of these once hung, crashed
