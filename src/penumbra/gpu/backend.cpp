@@ -36,8 +36,8 @@ const GraphicsPipeline& Backend::volume_pipeline() {
 }
 
 const std::vector<std::string>& Backend::methods() {
-  static const std::vector<std::string> names = {"gears",         "dcs",    "shadow_map", "pcss",
-                                                 "shadow_volume", "wedges", "ssm"};
+  static const std::vector<std::string> names = {"gears",         "dcs",    "shadow_map",  "pcss",
+                                                 "shadow_volume", "wedges", "wedge_blend", "ssm"};
   return names;
 }
 
@@ -54,6 +54,8 @@ MethodInfo Backend::vulkan_method(const MethodInfo& info) {
     out.create = [this](const MethodOptions& o) { return create_dcs_vk(*this, o); };
   } else if (info.name == "wedges") {
     out.create = [this](const MethodOptions& o) { return create_wedges_vk(*this, o); };
+  } else if (info.name == "wedge_blend") {
+    out.create = [this](const MethodOptions& o) { return create_wedge_blend_vk(*this, o); };
   } else if (info.name == "ssm") {
     out.create = [this](const MethodOptions& o) { return create_ssm_vk(*this, o); };
   } else if (info.name == "shadow_map") {

@@ -39,6 +39,7 @@ enum class Shader {
   dcs_finish,
   ssm_blend,
   wedges_pass2,
+  wedge_blend_pass2,
   count_
 };
 

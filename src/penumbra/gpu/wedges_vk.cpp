@@ -4,14 +4,14 @@
 // make_wedges with WedgeOptions::pass2): the light splitting, the silhouettes from each
 // (sub-)light's centre, pass 1's layered hard counts, the wedges and their tile bins, and the
 // soft textured shadow volumes' V_coef. The per-pixel sums are the CPU's, in double and in bin
-// order; a round light's sector angle is the float atan's (GLSL has no double atan2).
+// order; a round light's sector angle comes from the double atan2 of wedge_coverage.glsl.
 #include <algorithm>
 #include <chrono>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
 #include "penumbra/gpu/wedge_data.hpp"
-#include "penumbra/render/receivers.hpp"
+#include "penumbra/gpu/wedge_pixels.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/wedges.hpp"
@@ -19,14 +19,6 @@
 namespace penumbra::gpu {
 
 namespace {
-
-struct WedgePixelGpu {
-  double p[3], to_u[3], to_v[3], to_w[3];
-  double inv_area;
-  uint32_t tile, flags;
-};
-static_assert(sizeof(WedgePixelGpu) == 112);
-constexpr uint32_t kValid = 1, kRound = 2, kTauNeg = 4;  // shaders/dcs.glsl
 
 struct Pass2Push {
   VkDeviceAddress pix, wedges, weight, bin_begin, bin_entries, sum, lit;
@@ -39,31 +31,10 @@ Image<float> pass2(Backend& backend, const ShadowContext& ctx, const Light& ligh
                    const wedge_pass::BinnedWedges& bw, const Image<float>& count) {
   VulkanContext& vk = backend.context();
   const GBuffer& g = ctx.gbuffer;
-  std::vector<uint32_t> active;
-  for (size_t i = 0; i < g.pixel_count(); ++i)
-    if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
-  const uint32_t na = static_cast<uint32_t>(active.size());
-  // Per pixel: what PixelLight holds (run_pass2 builds one per pixel of a non-empty bin).
-  const bool per_pixel_frame = frame_depends_on_receiver(light);
-  const LightFrame fixed_frame = light_frame(light, light.center);
-  std::vector<WedgePixelGpu> pixels(na);
+  const std::vector<WedgePixelGpu> pixels = wedge_pixels(ctx, light, bw.tiles_x);
+  const uint32_t na = static_cast<uint32_t>(pixels.size());
   std::vector<double> sum(na);
-  for (uint32_t a = 0; a < na; ++a) {
-    const uint32_t i = active[a];
-    const int x = static_cast<int>(i % g.width), y = static_cast<int>(i / g.width);
-    WedgePixelGpu& px = pixels[a];
-    px = {};
-    sum[a] = count[i];
-    px.tile = static_cast<uint32_t>((y / wedge_pass::kTile) * bw.tiles_x + x / wedge_pass::kTile);
-    const wedge_pass::PixelLight pl(light, fixed_frame, per_pixel_frame, g.shadow_origin(i));
-    if (!pl.valid()) continue;
-    const LightFrame f = per_pixel_frame ? light_frame(light, g.shadow_origin(i)) : fixed_frame;
-    const LightProjection& lp = pl.projection();
-    put3(px.p, pl.point());
-    put3(px.to_u, lp.to_u), put3(px.to_v, lp.to_v), put3(px.to_w, lp.to_w);
-    px.inv_area = 1.0 / f.uv_area();
-    px.flags = kValid | (pl.round() ? kRound : 0) | (pl.tau() < 0.0 ? kTauNeg : 0);
-  }
+  for (uint32_t a = 0; a < na; ++a) sum[a] = count[pixels[a].pixel];
   std::vector<WedgeGpu> wedges;
   std::vector<double> weight;
   for (const Wedge& w : bw.wedges) {
@@ -98,7 +69,7 @@ Image<float> pass2(Backend& backend, const ShadowContext& ctx, const Light& ligh
   cl.mark("pass2");
   cl.submit();
   const std::vector<float> v = vk.download<float>(lit, na);
-  for (uint32_t a = 0; a < na; ++a) vis[active[a]] = v[a];
+  for (uint32_t a = 0; a < na; ++a) vis[pixels[a].pixel] = v[a];
   return vis;
 }
 

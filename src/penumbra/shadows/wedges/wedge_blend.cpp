@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/core/stats.hpp"
 #include "penumbra/shadows/registry.hpp"
 #include "penumbra/shadows/wedges/coverage.hpp"
@@ -195,7 +196,8 @@ void blend_part(const SvPart& s, VPart& v, int q, const LightMeasure& m, WedgeBl
 
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
                                     WedgeConstruction construction, Image<Vec3>* lit_rgb,
-                                    bool alpha_stsv, const wedge_pass::CasterMeshes* prepared) {
+                                    bool alpha_stsv, const wedge_pass::CasterMeshes* prepared,
+                                    const WedgeBlendPass2& pass2) {
   WedgeBlendStats st;
   WedgeStats& ws = st.wedges;
   const GBuffer& g = ctx.gbuffer;
@@ -247,82 +249,89 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   start = std::chrono::steady_clock::now();
   PassCounters pc;
   std::vector<WedgeBlendStats> row_stats(bw.tiles_y);
-  Image<float> vis = run_pass2(
-      ctx, light, bw, pc,
-      [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin, PassCounters& c) {
-        WedgeBlendStats& rs = row_stats[(i / g.width) / kTile];
-        std::array<VPart, kParts> vbuf{};
-        for_each_group(
-            gcount, i, pl, bin, &bw, c,
-            [&](uint32_t, double count, const std::vector<CoveredEdge>& edges) {
-              // SV-buffer initialised by the group's hard count (Algorithm 4 line 4).
-              std::array<SvPart, kParts> sv{};
-              for (SvPart& p : sv) {
-                p.occ = DVec3(count);
-                if (count > 0.0) p.rect = Rect::full();
-              }
-              // Algorithm 5, outer half-wedges first (§3.3.3), then inner ones.
-              for (int pass = 0; pass < 2 && pl; ++pass) {
-                for (const CoveredEdge& e : edges) {
-                  const Wedge& w = bw.wedges[e.wedge];
-                  const bool outer = pl->occlusion(w, e.area) > 0.0;
-                  if (outer != (pass == 0)) continue;
-                  // The parts the segment's box reaches (most edges lie in one or two).
-                  const bool u_half[2] = {std::min(e.a.x, e.b.x) <= 0.5,
-                                          std::max(e.a.x, e.b.x) >= 0.5};
-                  const bool v_half[2] = {std::min(e.a.y, e.b.y) <= 0.5,
-                                          std::max(e.a.y, e.b.y) >= 0.5};
-                  for (int q = 0; q < kParts; ++q) {
-                    if (!u_half[q & 1] || !v_half[(q >> 1) & 1]) continue;
-                    DVec2 a = e.a, b = e.b;
-                    if (!clip_to_part(q, a, b)) continue;  // line 7
-                    // The sector from the centre through a, b lies in part q: its part of the
-                    // square gives both the square's sector-minus-triangle and the rectangle.
-                    PartSector sector;
-                    if (!part_sector(q, a, b, sector)) continue;
-                    const double area =
-                        pl->round() ? disk_sector_minus_triangle(a, b) : sector.area;
-                    if (area == 0.0) continue;
-                    SvPart& p = sv[q];
-                    const DVec3 share = measure.edge(*pl, w, a, b, area);  // line 8
-                    const DVec3& part = measure.part(q);
-                    for (int k = 0; k < 3; ++k)  // lines 11, 14
-                      if (part[k] > 0.0) p.occ[k] += share[k] / part[k];
-                    const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
-                                 bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
-                    if (outer) {  // line 12: increase_brect; outer-edge maxima
-                      p.rect.add(sector.rect);
-                      p.outer_s = std::max({p.outer_s, as, bs});
-                      p.outer_t = std::max({p.outer_t, at, bt});
-                    } else {  // line 15: decrease_brect (below)
-                      p.inner_s = std::max({p.inner_s, as, bs});
-                      p.inner_t = std::max({p.inner_t, at, bt});
-                      const DVec2 da = a - DVec2(0.5), db = b - DVec2(0.5);
-                      p.inner_angle += std::abs(std::atan2(cross2(da, db), glm::dot(da, db)));
-                    }
-                  }
-                }
-              }
-              for (int q = 0; q < kParts; ++q) {
-                SvPart& p = sv[q];
-                // decrease_brect: inner edges spanning the whole part (90° seen from the centre)
-                // close the occluded region off on the centre's side; it reaches no farther than
-                // they do, nor than the occluding outer edges (the maxima of §3.3.3).
-                if (p.inner_angle >= 0.5 * kPi * (1.0 - 1e-9) && !p.rect.empty()) {
-                  p.rect.s1 =
-                      std::max(p.rect.s0, std::min(p.rect.s1, std::max(p.inner_s, p.outer_s)));
-                  p.rect.t1 =
-                      std::max(p.rect.t0, std::min(p.rect.t1, std::max(p.inner_t, p.outer_t)));
-                }
-                p.occ = glm::clamp(p.occ, DVec3(0.0), DVec3(1.0));
-                blend_part(p, vbuf[q], q, measure, rs);  // Algorithm 4 line 7
-              }
-            });
-        DVec3 occ(0.0);
-        for (int q = 0; q < kParts; ++q) occ += measure.part(q) * vbuf[q].occ;
-        if (emission) return rgb_visibility(occ, emission->total, rgb_img[i]);
-        return static_cast<float>(1.0 - std::clamp(occ.x, 0.0, 1.0));
-      });
+  if (pass2 && emission) throw Error("wedge_blend: textured lights have no device pass");
+  Image<float> vis =
+      pass2 ? pass2(ctx, bw, gcount)
+            : run_pass2(
+                  ctx, light, bw, pc,
+                  [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin,
+                      PassCounters& c) {
+                    WedgeBlendStats& rs = row_stats[(i / g.width) / kTile];
+                    std::array<VPart, kParts> vbuf{};
+                    for_each_group(
+                        gcount, i, pl, bin, &bw, c,
+                        [&](uint32_t, double count, const std::vector<CoveredEdge>& edges) {
+                          // SV-buffer initialised by the group's hard count (Algorithm 4 line 4).
+                          std::array<SvPart, kParts> sv{};
+                          for (SvPart& p : sv) {
+                            p.occ = DVec3(count);
+                            if (count > 0.0) p.rect = Rect::full();
+                          }
+                          // Algorithm 5, outer half-wedges first (§3.3.3), then inner ones.
+                          for (int pass = 0; pass < 2 && pl; ++pass) {
+                            for (const CoveredEdge& e : edges) {
+                              const Wedge& w = bw.wedges[e.wedge];
+                              const bool outer = pl->occlusion(w, e.area) > 0.0;
+                              if (outer != (pass == 0)) continue;
+                              // The parts the segment's box reaches (most edges lie in one or two).
+                              const bool u_half[2] = {std::min(e.a.x, e.b.x) <= 0.5,
+                                                      std::max(e.a.x, e.b.x) >= 0.5};
+                              const bool v_half[2] = {std::min(e.a.y, e.b.y) <= 0.5,
+                                                      std::max(e.a.y, e.b.y) >= 0.5};
+                              for (int q = 0; q < kParts; ++q) {
+                                if (!u_half[q & 1] || !v_half[(q >> 1) & 1]) continue;
+                                DVec2 a = e.a, b = e.b;
+                                if (!clip_to_part(q, a, b)) continue;  // line 7
+                                // The sector from the centre through a, b lies in part q: its part
+                                // of the square gives both the square's sector-minus-triangle and
+                                // the rectangle.
+                                PartSector sector;
+                                if (!part_sector(q, a, b, sector)) continue;
+                                const double area =
+                                    pl->round() ? disk_sector_minus_triangle(a, b) : sector.area;
+                                if (area == 0.0) continue;
+                                SvPart& p = sv[q];
+                                const DVec3 share = measure.edge(*pl, w, a, b, area);  // line 8
+                                const DVec3& part = measure.part(q);
+                                for (int k = 0; k < 3; ++k)  // lines 11, 14
+                                  if (part[k] > 0.0) p.occ[k] += share[k] / part[k];
+                                const double as = std::abs(a.x - 0.5), at = std::abs(a.y - 0.5),
+                                             bs = std::abs(b.x - 0.5), bt = std::abs(b.y - 0.5);
+                                if (outer) {  // line 12: increase_brect; outer-edge maxima
+                                  p.rect.add(sector.rect);
+                                  p.outer_s = std::max({p.outer_s, as, bs});
+                                  p.outer_t = std::max({p.outer_t, at, bt});
+                                } else {  // line 15: decrease_brect (below)
+                                  p.inner_s = std::max({p.inner_s, as, bs});
+                                  p.inner_t = std::max({p.inner_t, at, bt});
+                                  const DVec2 da = a - DVec2(0.5), db = b - DVec2(0.5);
+                                  p.inner_angle +=
+                                      std::abs(std::atan2(cross2(da, db), glm::dot(da, db)));
+                                }
+                              }
+                            }
+                          }
+                          for (int q = 0; q < kParts; ++q) {
+                            SvPart& p = sv[q];
+                            // decrease_brect: inner edges spanning the whole part (90° seen from
+                            // the centre) close the occluded region off on the centre's side; it
+                            // reaches no farther than they do, nor than the occluding outer edges
+                            // (the maxima of §3.3.3).
+                            if (p.inner_angle >= 0.5 * kPi * (1.0 - 1e-9) && !p.rect.empty()) {
+                              p.rect.s1 = std::max(
+                                  p.rect.s0, std::min(p.rect.s1, std::max(p.inner_s, p.outer_s)));
+                              p.rect.t1 = std::max(
+                                  p.rect.t0, std::min(p.rect.t1, std::max(p.inner_t, p.outer_t)));
+                            }
+                            p.occ = glm::clamp(p.occ, DVec3(0.0), DVec3(1.0));
+                            blend_part(p, vbuf[q], q, measure, rs);  // Algorithm 4 line 7
+                          }
+                        });
+                    DVec3 occ(0.0);
+                    for (int q = 0; q < kParts; ++q) occ += measure.part(q) * vbuf[q].occ;
+                    if (emission) return rgb_visibility(occ, emission->total, rgb_img[i]);
+                    return static_cast<float>(1.0 - std::clamp(occ.x, 0.0, 1.0));
+                  });
   for (const WedgeBlendStats& r : row_stats) {
     st.blends += r.blends;
     st.overlaps += r.overlaps;
@@ -344,8 +353,8 @@ namespace {
 
 class WedgeBlend final : public ShadowMethod {
  public:
-  WedgeBlend(WedgeConstruction construction, bool alpha_stsv)
-      : construction_(construction), alpha_stsv_(alpha_stsv) {}
+  WedgeBlend(WedgeConstruction construction, bool alpha_stsv, WedgeBlendPass2 pass2 = {})
+      : construction_(construction), alpha_stsv_(alpha_stsv), pass2_(std::move(pass2)) {}
 
   /// The casters' adjacency (edges, re-oriented and de-duplicated meshes) is scene-static.
   void prepare(const Scene& scene) override {
@@ -358,7 +367,8 @@ class WedgeBlend final : public ShadowMethod {
     WedgeBlendStats st;
     Visibility v;
     Image<Vec3> rgb;
-    v.lit = wedge_blend_visibility(ctx, &st, construction_, &rgb, alpha_stsv_, casters_.get());
+    v.lit =
+        wedge_blend_visibility(ctx, &st, construction_, &rgb, alpha_stsv_, casters_.get(), pass2_);
     // The adjacency's time, once, in the stage that built it when it was built per light.
     st.wedges.silhouettes_ms += std::exchange(unreported_prepare_ms_, 0.0);
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
@@ -372,11 +382,18 @@ class WedgeBlend final : public ShadowMethod {
  private:
   WedgeConstruction construction_;
   bool alpha_stsv_;
+  WedgeBlendPass2 pass2_;
   std::unique_ptr<const CasterMeshes> casters_;
   double unreported_prepare_ms_ = 0.0;
 };
 
 }  // namespace
+
+std::unique_ptr<ShadowMethod> make_wedge_blend(const MethodOptions& options,
+                                               WedgeBlendPass2 pass2) {
+  return std::make_unique<WedgeBlend>(wedge_construction_of(options), stsv::uses_stsv(options),
+                                      std::move(pass2));
+}
 
 void register_wedge_blend(MethodRegistry& registry) {
   MethodInfo info;

@@ -22,7 +22,12 @@
 // so `wedge_blend` equals `wedges` there (tested).
 #pragma once
 
+#include <functional>
+#include <memory>
+
 #include "penumbra/shadows/method.hpp"
+#include "penumbra/shadows/registry.hpp"
+#include "penumbra/shadows/wedges/pass.hpp"
 #include "penumbra/shadows/wedges/wedges.hpp"
 
 namespace penumbra {
@@ -34,6 +39,13 @@ struct WedgeBlendStats {
   uint64_t overlaps = 0;  // of those, with intersecting rectangles (eq. 3.1 applied)
 };
 
+/// The per-pixel blend (Algorithms 4 lines 2–7, 5, 6) done elsewhere (the Vulkan backend) for an
+/// untextured light: V per pixel from the groups' hard counts and the binned wedges, as the CPU
+/// pass computes it. Null: the CPU's pass.
+using WedgeBlendPass2 =
+    std::function<Image<float>(const ShadowContext& ctx, const wedge_pass::BinnedWedges& wedges,
+                               const wedge_pass::GroupCounts& counts)>;
+
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for other
 /// lights) and V = its Rec. 709 luminance ratio, as `wedges`.
@@ -42,6 +54,11 @@ struct WedgeBlendStats {
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats = nullptr,
                                     WedgeConstruction construction = WedgeConstruction::paper,
                                     Image<Vec3>* lit_rgb = nullptr, bool alpha_stsv = true,
-                                    const wedge_pass::CasterMeshes* prepared = nullptr);
+                                    const wedge_pass::CasterMeshes* prepared = nullptr,
+                                    const WedgeBlendPass2& pass2 = {});
+
+/// The `wedge_blend` method with its per-pixel pass replaced by `pass2` (see WedgeBlendPass2; a
+/// textured light is refused with an Error).
+std::unique_ptr<ShadowMethod> make_wedge_blend(const MethodOptions& options, WedgeBlendPass2 pass2);
 
 }  // namespace penumbra
