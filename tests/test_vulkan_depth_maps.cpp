@@ -1,13 +1,16 @@
 // `shadow_map` and `pcss` on Vulkan against the CPU methods on the same frame: the depth map from
-// the graphics pipeline, the lookup in a compute shader. With shaderFloat64 (lavapipe, NVIDIA) the
-// depth pass applies the CPU rasterizer's coverage and depth in double, so maps and visibilities
-// are equal; the hardware-coverage fallback differs only at caster-edge texels (docs/gpu.md).
+// the graphics pipeline or from compute alone, the lookup in a compute shader. With shaderFloat64
+// (lavapipe, NVIDIA) the depth pass applies the CPU rasterizer's coverage and depth in double, so
+// maps and visibilities are equal; the hardware-coverage fallback differs only at caster-edge
+// texels (docs/gpu.md).
 #include <gtest/gtest.h>
 
 #ifdef PENUMBRA_HAVE_VULKAN
 
 #include <cstdio>
+#include <cstdlib>
 
+#include "penumbra/core/error.hpp"
 #include "penumbra/gpu/depth_pass.hpp"
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/shadows/wedges/shadow_volume.hpp"
@@ -137,6 +140,31 @@ TEST(VulkanDepthMaps, DepthMapEqualsCpu) {
   for (FaceSelect faces : {FaceSelect::front, FaceSelect::both})
     for (size_t differ : depth_map_differences(backend.context(), pipe, faces))
       EXPECT_LE(differ, pipe.exact() ? 0u : 4u);
+}
+
+/// The exact pass rasterized in compute (the path of devices with few graphics units): the CPU's
+/// map texel for texel too.
+TEST(VulkanDepthMaps, ComputeRasterEqualsCpu) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  if (!backend.context().has_float64()) GTEST_SKIP() << "the exact pass needs shaderFloat64";
+  gpu::DepthPipeline compute(backend.context(), true, gpu::DepthRaster::compute);
+  ASSERT_TRUE(compute.compute());
+  for (FaceSelect faces : {FaceSelect::front, FaceSelect::both})
+    for (size_t differ : depth_map_differences(backend.context(), compute, faces))
+      EXPECT_EQ(differ, 0u);
+}
+
+TEST(VulkanDepthMaps, RasterPathFromTheEnvironment) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  setenv("PENUMBRA_VK_RASTER", "compute", 1);
+  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::compute);
+  setenv("PENUMBRA_VK_RASTER", "graphics", 1);
+  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::graphics);
+  setenv("PENUMBRA_VK_RASTER", "fast", 1);
+  EXPECT_THROW(gpu::depth_raster_for(backend.context()), Error);
+  unsetenv("PENUMBRA_VK_RASTER");
+  // lavapipe is not a data-centre GPU: the graphics pipeline by default.
+  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::graphics);
 }
 
 /// The fallback of devices without shaderFloat64: hardware coverage differs from the CPU only at

@@ -15,7 +15,8 @@ Backend::Backend(const ContextOptions& options)
 Backend::~Backend() = default;
 
 DepthPipeline& Backend::depth_pipeline() {
-  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64());
+  if (!depth_)
+    depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64(), depth_raster_for(*ctx_));
   return *depth_;
 }
 

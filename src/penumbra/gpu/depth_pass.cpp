@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "penumbra/core/error.hpp"
@@ -82,9 +85,76 @@ void record_hardware_draw(VkCommandBuffer cmd, const DepthPipeline& pipe, const 
   if (map.triangles) vkCmdDraw(cmd, static_cast<uint32_t>(map.triangles * 3), 1, 0, 0);
 }
 
+/// Records depth_setup.comp: every caster's screen polygon and pixel box (exact pass); returns
+/// their buffer's address (0 without casters).
+VkDeviceAddress setup_polys(VulkanContext& ctx, const DepthPipeline& pipe, CommandList& cl,
+                            const GpuDepthMap& map, const Buffer& vertices,
+                            const DepthMapSpec& spec, std::deque<Buffer>& keep) {
+  if (!map.triangles) return 0;
+  const Projection& pr = map.view.proj;
+  SetupView v{};
+  for (int c = 0; c < 3; ++c)
+    v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
+    v.forward[c] = pr.forward[c];
+  v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
+  v.width = v.height = map.resolution;
+  v.near = map.view.near;
+  v.faces = spec.faces == FaceSelect::front ? 0 : spec.faces == FaceSelect::back ? 1 : 2;
+  keep.push_back(ctx.upload(&v, sizeof(v)));
+  const VkDeviceAddress view = keep.back().address();
+  keep.emplace_back(ctx, map.triangles * kScreenPolyBytes, Memory::device);
+  const VkDeviceAddress polys = keep.back().address();
+  cl.dispatch(pipe.setup(),
+              SetupPush{vertices.address(), view, polys, static_cast<uint32_t>(map.triangles)},
+              map.triangles);
+  cl.barrier();
+  return polys;
+}
+
+struct RasterPush {
+  VkDeviceAddress polys, depth;
+  uint32_t triangles;
+  int32_t resolution;
+};
+
+/// Records depth_raster.comp into map.depth: a workgroup (kGroupSize threads) per caster.
+void record_compute_raster(CommandList& cl, const DepthPipeline& pipe, const GpuDepthMap& map,
+                           VkDeviceAddress polys) {
+  uint32_t empty_bits = 0;
+  std::memcpy(&empty_bits, &kEmptyDepth, sizeof(empty_bits));
+  cl.fill(map.depth, empty_bits);
+  cl.barrier();
+  if (!map.triangles) return;
+  cl.dispatch(
+      pipe.raster(),
+      RasterPush{polys, map.depth.address(), static_cast<uint32_t>(map.triangles), map.resolution},
+      static_cast<uint64_t>(map.triangles) * kGroupSize);
+  cl.barrier();
+}
+
 }  // namespace
 
-DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact) : exact_(exact && ctx.has_float64()) {
+DepthRaster depth_raster_for(const VulkanContext& ctx) {
+  if (const char* env = std::getenv("PENUMBRA_VK_RASTER"); env && *env) {
+    const std::string mode = env;
+    if (mode == "graphics") return DepthRaster::graphics;
+    if (mode == "compute") return DepthRaster::compute;
+    throw Error("PENUMBRA_VK_RASTER must be 'graphics' or 'compute', not " + quote(mode));
+  }
+  static const char* const kFewGraphicsUnits[] = {"H100", "H200", "H800", "H20",  "A100",
+                                                  "A800", "A30",  "B100", "B200", "GH200"};
+  for (const char* name : kFewGraphicsUnits)
+    if (ctx.device_name().find(name) != std::string::npos) return DepthRaster::compute;
+  return DepthRaster::graphics;
+}
+
+DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact, DepthRaster raster)
+    : exact_(exact && ctx.has_float64()) {
+  if (exact_) setup_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_setup));
+  if (exact_ && raster == DepthRaster::compute) {
+    raster_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_raster));
+    return;
+  }
   GraphicsDesc d;
   d.vert = exact_ ? Shader::depth_map_exact_vert : Shader::depth_map_vert;
   d.frag = exact_ ? Shader::depth_map_exact_frag : Shader::depth_map_frag;
@@ -94,7 +164,6 @@ DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact) : exact_(exact && c
   // Hardware pass: reversed z, depth = near / view depth. Exact pass: depth = view depth × 2^-k.
   d.depth_op = exact_ ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_GREATER;
   graphics_ = std::make_unique<GraphicsPipeline>(ctx, d);
-  if (exact_) setup_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_setup));
 }
 
 DepthPipeline::~DepthPipeline() = default;
@@ -122,6 +191,10 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   const Buffer& vbuf = keep.back();
   out.depth = Buffer(ctx, static_cast<size_t>(res) * res * sizeof(float), Memory::device);
 
+  if (pipe.compute()) {
+    record_compute_raster(cl, pipe, out, setup_polys(ctx, pipe, cl, out, vbuf, spec, keep));
+    return out;
+  }
   images.emplace_back(ctx, res, res, kColorFormat,
                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                       VK_IMAGE_ASPECT_COLOR_BIT);
@@ -131,26 +204,7 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   const Image2D& depth = images.back();
 
   const bool exact = pipe.exact();
-  VkDeviceAddress polys = 0;
-  if (exact && out.triangles) {
-    const Projection& pr = out.view.proj;
-    SetupView v{};
-    for (int c = 0; c < 3; ++c)
-      v.eye[c] = pr.eye[c], v.right[c] = pr.right[c], v.up[c] = pr.up[c],
-      v.forward[c] = pr.forward[c];
-    v.tan_half_x = pr.tan_half_x, v.tan_half_y = pr.tan_half_y;
-    v.width = v.height = res;
-    v.near = out.view.near;
-    v.faces = spec.faces == FaceSelect::front ? 0 : spec.faces == FaceSelect::back ? 1 : 2;
-    keep.push_back(ctx.upload(&v, sizeof(v)));
-    const VkDeviceAddress view = keep.back().address();
-    keep.emplace_back(ctx, out.triangles * kScreenPolyBytes, Memory::device);
-    polys = keep.back().address();
-    cl.dispatch(pipe.setup(),
-                SetupPush{vbuf.address(), view, polys, static_cast<uint32_t>(out.triangles)},
-                out.triangles);
-    cl.barrier();
-  }
+  const VkDeviceAddress polys = exact ? setup_polys(ctx, pipe, cl, out, vbuf, spec, keep) : 0;
 
   VkCommandBuffer cmd = cl.cmd();
   begin_rendering(cmd, color, kEmptyDepth, &depth, exact ? 1.0f : 0.0f, res, res);  // far: empty

@@ -19,13 +19,24 @@
 
 namespace penumbra::gpu {
 
-/// The graphics pipeline of the depth pass: the exact pass (depth_exact.glsl, with its setup
-/// compute pipeline) where the device has shaderFloat64, else hardware coverage (cull mode set per
-/// draw).
+/// How the exact depth pass finds each caster's texels: drawn by the graphics pipeline (a box per
+/// caster, coverage in the fragment shader), or in a compute shader alone (depth_raster.comp), for
+/// devices whose graphics units are few (data-centre GPUs) — the same map either way.
+enum class DepthRaster { graphics, compute };
+
+/// $PENUMBRA_VK_RASTER (`graphics` or `compute`, else an Error), or by default `compute` on the
+/// data-centre GPUs without a display engine (device names with H100, H200, H800, H20, A100,
+/// A800, A30, B100, B200, GH200: fragment work measured ~30× slower than compute there) and
+/// `graphics` elsewhere.
+DepthRaster depth_raster_for(const VulkanContext& ctx);
+
+/// The pipelines of the depth pass: the exact pass (depth_exact.glsl, with its setup compute
+/// pipeline; drawn, or rasterized in compute) where the device has shaderFloat64, else hardware
+/// coverage (cull mode set per draw).
 class DepthPipeline {
  public:
-  /// `exact` needs shaderFloat64 (VulkanContext::has_float64).
-  DepthPipeline(VulkanContext& ctx, bool exact);
+  /// `exact` needs shaderFloat64 (VulkanContext::has_float64); `raster` applies to the exact pass.
+  DepthPipeline(VulkanContext& ctx, bool exact, DepthRaster raster = DepthRaster::graphics);
   ~DepthPipeline();
   DepthPipeline(const DepthPipeline&) = delete;
   DepthPipeline& operator=(const DepthPipeline&) = delete;
@@ -34,11 +45,14 @@ class DepthPipeline {
   /// The exact pass (depth_setup.comp + depth_map_exact.*).
   bool exact() const { return exact_; }
   const ComputePipeline& setup() const { return *setup_; }
+  /// The exact pass rasterized in compute (depth_raster.comp): no graphics work at all.
+  bool compute() const { return static_cast<bool>(raster_); }
+  const ComputePipeline& raster() const { return *raster_; }
 
  private:
   bool exact_ = false;
   std::unique_ptr<GraphicsPipeline> graphics_;
-  std::unique_ptr<ComputePipeline> setup_;
+  std::unique_ptr<ComputePipeline> setup_, raster_;
 };
 
 /// Empty texels hold FLT_MAX (the CPU map's +inf: never nearer than a receiver).

@@ -30,6 +30,7 @@ enum class Shader {
   depth_map_exact_vert,
   depth_map_exact_frag,
   depth_setup,
+  depth_raster,
   volume_setup,
   volume_vert,
   volume_frag,
