@@ -147,7 +147,7 @@ TEST(VulkanDepthMaps, DepthMapEqualsCpu) {
 TEST(VulkanDepthMaps, ComputeRasterEqualsCpu) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   if (!backend.context().has_float64()) GTEST_SKIP() << "the exact pass needs shaderFloat64";
-  gpu::DepthPipeline compute(backend.context(), true, gpu::DepthRaster::compute);
+  gpu::DepthPipeline compute(backend.context(), true, gpu::RasterPath::compute);
   ASSERT_TRUE(compute.compute());
   for (FaceSelect faces : {FaceSelect::front, FaceSelect::both})
     for (size_t differ : depth_map_differences(backend.context(), compute, faces))
@@ -157,14 +157,14 @@ TEST(VulkanDepthMaps, ComputeRasterEqualsCpu) {
 TEST(VulkanDepthMaps, RasterPathFromTheEnvironment) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   setenv("PENUMBRA_VK_RASTER", "compute", 1);
-  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::compute);
+  EXPECT_EQ(gpu::raster_path_for(backend.context()), gpu::RasterPath::compute);
   setenv("PENUMBRA_VK_RASTER", "graphics", 1);
-  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::graphics);
+  EXPECT_EQ(gpu::raster_path_for(backend.context()), gpu::RasterPath::graphics);
   setenv("PENUMBRA_VK_RASTER", "fast", 1);
-  EXPECT_THROW(gpu::depth_raster_for(backend.context()), Error);
+  EXPECT_THROW(gpu::raster_path_for(backend.context()), Error);
   unsetenv("PENUMBRA_VK_RASTER");
   // lavapipe is not a data-centre GPU: the graphics pipeline by default.
-  EXPECT_EQ(gpu::depth_raster_for(backend.context()), gpu::DepthRaster::graphics);
+  EXPECT_EQ(gpu::raster_path_for(backend.context()), gpu::RasterPath::graphics);
 }
 
 /// The fallback of devices without shaderFloat64: hardware coverage differs from the CPU only at

@@ -10,13 +10,13 @@ namespace penumbra::gpu {
 
 Backend::Backend(const ContextOptions& options)
     : ctx_(std::make_unique<VulkanContext>(options)),
-      programs_(std::make_unique<Programs>(*ctx_)) {}
+      programs_(std::make_unique<Programs>(*ctx_)),
+      raster_path_(raster_path_for(*ctx_)) {}
 
 Backend::~Backend() = default;
 
 DepthPipeline& Backend::depth_pipeline() {
-  if (!depth_)
-    depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64(), depth_raster_for(*ctx_));
+  if (!depth_) depth_ = std::make_unique<DepthPipeline>(*ctx_, ctx_->has_float64(), raster_path_);
   return *depth_;
 }
 

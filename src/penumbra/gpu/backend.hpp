@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "penumbra/gpu/context.hpp"
+#include "penumbra/gpu/graphics.hpp"
 #include "penumbra/gpu/shaders.hpp"
 #include "penumbra/shadows/registry.hpp"
 
@@ -29,6 +30,8 @@ class Backend {
   DepthPipeline& depth_pipeline();
   /// The shadow-volume counting pipeline (volume.vert/.frag, additive R32F).
   const GraphicsPipeline& volume_pipeline();
+  /// Graphics pipeline or compute for the raster passes (raster_path_for, read once).
+  RasterPath raster_path() const { return raster_path_; }
 
   /// Methods with a Vulkan implementation, in registry order.
   static const std::vector<std::string>& methods();
@@ -42,6 +45,7 @@ class Backend {
   std::unique_ptr<Programs> programs_;
   std::unique_ptr<DepthPipeline> depth_;
   std::unique_ptr<GraphicsPipeline> volume_;
+  RasterPath raster_path_ = RasterPath::graphics;
 };
 
 // Factories of the Vulkan methods (gpu/<method>_vk.cpp).

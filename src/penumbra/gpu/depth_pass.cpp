@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -134,24 +133,10 @@ void record_compute_raster(CommandList& cl, const DepthPipeline& pipe, const Gpu
 
 }  // namespace
 
-DepthRaster depth_raster_for(const VulkanContext& ctx) {
-  if (const char* env = std::getenv("PENUMBRA_VK_RASTER"); env && *env) {
-    const std::string mode = env;
-    if (mode == "graphics") return DepthRaster::graphics;
-    if (mode == "compute") return DepthRaster::compute;
-    throw Error("PENUMBRA_VK_RASTER must be 'graphics' or 'compute', not " + quote(mode));
-  }
-  static const char* const kFewGraphicsUnits[] = {"H100", "H200", "H800", "H20",  "A100",
-                                                  "A800", "A30",  "B100", "B200", "GH200"};
-  for (const char* name : kFewGraphicsUnits)
-    if (ctx.device_name().find(name) != std::string::npos) return DepthRaster::compute;
-  return DepthRaster::graphics;
-}
-
-DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact, DepthRaster raster)
+DepthPipeline::DepthPipeline(VulkanContext& ctx, bool exact, RasterPath raster)
     : exact_(exact && ctx.has_float64()) {
   if (exact_) setup_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_setup));
-  if (exact_ && raster == DepthRaster::compute) {
+  if (exact_ && raster == RasterPath::compute) {
     raster_ = std::make_unique<ComputePipeline>(ctx, spirv(Shader::depth_raster));
     return;
   }

@@ -19,24 +19,14 @@
 
 namespace penumbra::gpu {
 
-/// How the exact depth pass finds each caster's texels: drawn by the graphics pipeline (a box per
-/// caster, coverage in the fragment shader), or in a compute shader alone (depth_raster.comp), for
-/// devices whose graphics units are few (data-centre GPUs) — the same map either way.
-enum class DepthRaster { graphics, compute };
-
-/// $PENUMBRA_VK_RASTER (`graphics` or `compute`, else an Error), or by default `compute` on the
-/// data-centre GPUs without a display engine (device names with H100, H200, H800, H20, A100,
-/// A800, A30, B100, B200, GH200: fragment work measured ~30× slower than compute there) and
-/// `graphics` elsewhere.
-DepthRaster depth_raster_for(const VulkanContext& ctx);
-
 /// The pipelines of the depth pass: the exact pass (depth_exact.glsl, with its setup compute
 /// pipeline; drawn, or rasterized in compute) where the device has shaderFloat64, else hardware
 /// coverage (cull mode set per draw).
 class DepthPipeline {
  public:
-  /// `exact` needs shaderFloat64 (VulkanContext::has_float64); `raster` applies to the exact pass.
-  DepthPipeline(VulkanContext& ctx, bool exact, DepthRaster raster = DepthRaster::graphics);
+  /// `exact` needs shaderFloat64 (VulkanContext::has_float64); `raster` applies to the exact pass
+  /// (RasterPath::compute: depth_raster.comp).
+  DepthPipeline(VulkanContext& ctx, bool exact, RasterPath raster = RasterPath::graphics);
   ~DepthPipeline();
   DepthPipeline(const DepthPipeline&) = delete;
   DepthPipeline& operator=(const DepthPipeline&) = delete;

@@ -1,5 +1,6 @@
 #include "penumbra/gpu/graphics.hpp"
 
+#include <cstdlib>
 #include <string>
 
 #include "penumbra/core/error.hpp"
@@ -184,6 +185,20 @@ Image2D::~Image2D() {
   vkDestroyImageView(device_, view_, nullptr);
   vkDestroyImage(device_, image_, nullptr);
   vkFreeMemory(device_, memory_, nullptr);
+}
+
+RasterPath raster_path_for(const VulkanContext& ctx) {
+  if (const char* env = std::getenv("PENUMBRA_VK_RASTER"); env && *env) {
+    const std::string mode = env;
+    if (mode == "graphics") return RasterPath::graphics;
+    if (mode == "compute") return RasterPath::compute;
+    throw Error("PENUMBRA_VK_RASTER must be 'graphics' or 'compute', not " + quote(mode));
+  }
+  static const char* const kFewGraphicsUnits[] = {"H100", "H200", "H800", "H20",  "A100",
+                                                  "A800", "A30",  "B100", "B200", "GH200"};
+  for (const char* name : kFewGraphicsUnits)
+    if (ctx.device_name().find(name) != std::string::npos) return RasterPath::compute;
+  return RasterPath::graphics;
 }
 
 }  // namespace penumbra::gpu

@@ -12,6 +12,17 @@
 
 namespace penumbra::gpu {
 
+/// How the raster passes (the exact depth map, the shadow-volume count) find their pixels: the
+/// graphics pipeline draws candidate boxes and a fragment shader tests them, or a compute shader
+/// walks the same boxes (devices with few graphics units) — the same results either way.
+enum class RasterPath { graphics, compute };
+
+/// $PENUMBRA_VK_RASTER (`graphics` or `compute`, else an Error), or by default `compute` on the
+/// data-centre GPUs without a display engine (device names with H100, H200, H800, H20, A100,
+/// A800, A30, B100, B200, GH200: fragment work measured ~30× slower than compute there) and
+/// `graphics` elsewhere.
+RasterPath raster_path_for(const VulkanContext& ctx);
+
 /// Push constants of a graphics pipeline: vertex and fragment stages.
 inline constexpr VkShaderStageFlags kGraphicsPushStages =
     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;

@@ -89,6 +89,9 @@ const uint32_t kDcsFinish[] = {
 const uint32_t kWedgesPass2[] = {
 #include "wedges_pass2.comp.inc"
 };
+const uint32_t kVolumeCount[] = {
+#include "volume_count.comp.inc"
+};
 const uint32_t kDepthRaster[] = {
 #include "depth_raster.comp.inc"
 };
@@ -161,6 +164,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kSsmBlend;
     case Shader::wedges_pass2:
       return kWedgesPass2;
+    case Shader::volume_count:
+      return kVolumeCount;
     case Shader::depth_raster:
       return kDepthRaster;
     case Shader::wedge_blend_pass2:

@@ -32,6 +32,7 @@ enum class Shader {
   depth_setup,
   depth_raster,
   volume_setup,
+  volume_count,
   volume_vert,
   volume_frag,
   dcs_init,

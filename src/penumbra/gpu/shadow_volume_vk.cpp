@@ -17,6 +17,7 @@
 #include <cmath>
 #include <deque>
 #include <initializer_list>
+#include <optional>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
@@ -50,6 +51,11 @@ struct VolumeView {
 
 // volume.glsl's VolumeFace: 4 + 1 dvec3, a double, 4 ints, 4 vec2.
 constexpr size_t kVolumeFaceBytes = 5 * 24 + 8 + 16 + 32;
+
+struct CountPush {
+  VkDeviceAddress faces, q, counts;
+  uint32_t n, width, height;
+};
 
 struct SetupPush {
   VkDeviceAddress positions, view, faces, out_faces;
@@ -140,7 +146,14 @@ double candidate_growth(const ShadowVolumePixels& px, const GBuffer& g,
 class ShadowVolumeVk final : public ShadowMethod {
  public:
   // The pipeline first: a device without shaderFloat64 fails here, before any work.
-  explicit ShadowVolumeVk(Backend& backend) : backend_(backend) { backend_.volume_pipeline(); }
+  explicit ShadowVolumeVk(Backend& backend) : backend_(backend) {
+    if (backend_.raster_path() == RasterPath::graphics) {
+      backend_.volume_pipeline();
+    } else if (!backend_.context().has_float64()) {
+      throw Error("shadow_volume on Vulkan needs shaderFloat64, which " +
+                  backend_.context().device_name() + " lacks");
+    }
+  }
 
   Visibility compute(const ShadowContext& ctx) override {
     VulkanContext& vk = backend_.context();
@@ -184,10 +197,8 @@ class ShadowVolumeVk final : public ShadowMethod {
     keep.push_back(vk.upload(q));
     const Buffer& q_buf = keep.back();
     const Buffer faces(vk, volume.faces.size() * kVolumeFaceBytes, Memory::device);
+    // Floats from the blending, ints from the compute path's atomics: 4 bytes a pixel either way.
     const Buffer counts(vk, g.pixel_count() * sizeof(float), Memory::device);
-    Image2D target(vk, g.width, g.height, VK_FORMAT_R32_SFLOAT,
-                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                   VK_IMAGE_ASPECT_COLOR_BIT);
     vis.times.add("wall_upload", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
@@ -199,14 +210,29 @@ class ShadowVolumeVk final : public ShadowMethod {
         n);
     cl.barrier();
     cl.mark("setup");
-    record_count(cl.cmd(), target, faces, q_buf, g.width, g.height, n, counts);
+    const bool compute = backend_.raster_path() == RasterPath::compute;
+    std::optional<Image2D> target;
+    if (compute) {
+      record_count_compute(cl, faces, q_buf, g.width, g.height, n, counts);
+    } else {
+      target.emplace(vk, g.width, g.height, VK_FORMAT_R32_SFLOAT,
+                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                     VK_IMAGE_ASPECT_COLOR_BIT);
+      record_count(cl.cmd(), *target, faces, q_buf, g.width, g.height, n, counts);
+    }
     cl.barrier();
     cl.mark("count");
     cl.submit(&vis.times);
     vis.times.add("wall_gpu", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
-    const std::vector<float> c = vk.download<float>(counts, g.pixel_count());
+    std::vector<float> c;
+    if (compute) {
+      const std::vector<int32_t> ints = vk.download<int32_t>(counts, g.pixel_count());
+      c.assign(ints.begin(), ints.end());
+    } else {
+      c = vk.download<float>(counts, g.pixel_count());
+    }
     size_t negative = 0, shadowed = 0;
     double sum = 0.0, largest = 0.0;
     for (size_t i = 0; i < g.pixel_count(); ++i) {
@@ -239,6 +265,18 @@ class ShadowVolumeVk final : public ShadowMethod {
     vkCmdPushConstants(cmd, pipe.layout(), kGraphicsPushStages, 0, sizeof(push), &push);
     vkCmdDraw(cmd, n * 6, 1, 0, 0);
     end_rendering_into(cmd, target, width, height, counts);
+  }
+
+  /// The counting pass in compute (volume_count.comp, RasterPath::compute): a workgroup per face,
+  /// integer atomics into `counts`.
+  void record_count_compute(CommandList& cl, const Buffer& faces, const Buffer& q, int width,
+                            int height, uint32_t n, const Buffer& counts) {
+    cl.fill(counts, 0u);
+    cl.barrier();
+    cl.dispatch(backend_.programs().get(Shader::volume_count),
+                CountPush{faces.address(), q.address(), counts.address(), n,
+                          static_cast<uint32_t>(width), static_cast<uint32_t>(height)},
+                static_cast<uint64_t>(n) * kGroupSize);
   }
 
   Backend& backend_;

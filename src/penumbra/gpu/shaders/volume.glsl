@@ -22,3 +22,22 @@ struct VolumeFace {
 };
 layout(buffer_reference, scalar) buffer VolumeFaces { VolumeFace f[]; };
 layout(buffer_reference, scalar) buffer Doubles4 { dvec4 v[]; };
+
+precise double volume_dot3(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+/// The CPU's per-pixel test of face f (shadow_volume.cpp) for q = shadow origin − camera: inside
+/// the face's cone (its edge planes through the camera, with the tie bits), and the face behind
+/// the receiver (its plane; far caps always are).
+bool volume_test(VolumeFaces faces, uint f, dvec3 q) {
+  const int n = faces.f[f].n, own = faces.f[f].own;
+  for (int e = 0; e < n; ++e) {
+    precise const double d = volume_dot3(faces.f[f].edge[e], q);
+    if (d < 0.0 || (d == 0.0 && ((own >> e) & 1) == 0)) return false;
+  }
+  if (faces.f[f].has_plane != 0) {
+    const double k = faces.f[f].plane_k;
+    precise const double side = (volume_dot3(faces.f[f].plane_n, q) + k) * k;
+    if (!(side > 0.0)) return false;
+  }
+  return true;
+}
