@@ -62,7 +62,7 @@ void check_device(RTCDevice device, const char* what) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
+EmbreeScene::EmbreeScene(const Scene& scene, BvhUpdate updates) : scene_(&scene) {
   const auto device_start = std::chrono::steady_clock::now();
   // PENUMBRA_SIMD pins Embree to the same instruction set as Penumbra's own kernels, so the
   // ratios against `raytrace` compare like with like.
@@ -94,6 +94,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
                                 3 * sizeof(unsigned), mesh.triangles.size()));
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
       for (int c = 0; c < 3; ++c) indices[3 * t + c] = mesh.triangles[t].v[c];
+    if (updates == BvhUpdate::refit) rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_REFIT);
     rtcSetGeometryMask(geom, mesh.casts_shadows ? (kMaskVisible | kMaskCaster) : kMaskVisible);
 
     GeometryData& g = geometry_data_[m];
@@ -111,9 +112,53 @@ EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
     rtcReleaseGeometry(geom);
     if (mesh_of_geom_.size() <= id) mesh_of_geom_.resize(id + 1, -1);
     mesh_of_geom_[id] = static_cast<int>(m);
+    geom_of_mesh_.push_back(id);
   }
   rtcCommitScene(rtc_scene_);
   check_device(device_, "the BVH build");
+  build_ms_ = elapsed_ms(start);
+}
+
+bool EmbreeScene::same_topology(const Scene& scene) const {
+  if (scene.meshes.size() != scene_->meshes.size()) return false;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& a = scene.meshes[m];
+    const Mesh& b = scene_->meshes[m];
+    if (a.positions.size() != b.positions.size() || a.triangles.size() != b.triangles.size())
+      return false;
+  }
+  return true;
+}
+
+void EmbreeScene::update(const Scene& scene) {
+  if (!same_topology(scene))
+    throw Error("BVH update: the scene's meshes differ from the BVH's (vertex or triangle counts)");
+  const auto start = std::chrono::steady_clock::now();
+  scene_ = &scene;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    GeometryData& g = geometry_data_[m];
+    // The filters read uvs and textures through these: point them at the new scene's.
+    g.mesh = &mesh;
+    if (g.alpha) g.alpha = &scene.textures[scene.material_of(mesh).alpha_texture];
+    RTCGeometry geom = rtcGetGeometry(rtc_scene_, geom_of_mesh_[m]);
+    auto* vertices = static_cast<float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
+    bool moved = false;
+    for (size_t v = 0; v < mesh.positions.size() && !moved; ++v)
+      moved = vertices[3 * v] != mesh.positions[v].x ||
+              vertices[3 * v + 1] != mesh.positions[v].y ||
+              vertices[3 * v + 2] != mesh.positions[v].z;
+    if (!moved) continue;  // a mesh the animation leaves still keeps its BVH
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      vertices[3 * v + 0] = mesh.positions[v].x;
+      vertices[3 * v + 1] = mesh.positions[v].y;
+      vertices[3 * v + 2] = mesh.positions[v].z;
+    }
+    rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(geom);
+  }
+  rtcCommitScene(rtc_scene_);
+  check_device(device_, "the BVH update");
   build_ms_ = elapsed_ms(start);
 }
 

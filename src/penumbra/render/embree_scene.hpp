@@ -13,19 +13,35 @@ namespace penumbra {
 
 struct GeometryData;
 
+/// What update() does to the BVH when the vertices move (a deforming or moving mesh).
+enum class BvhUpdate {
+  rebuild,  // a full build of every geometry's BVH, as the first (RTC_BUILD_QUALITY_MEDIUM)
+  refit,    // the same tree, its boxes refitted to the new vertices (RTC_BUILD_QUALITY_REFIT)
+};
+
 class EmbreeScene {
  public:
   /// Builds the BVH over every mesh (static scene, RTC_BUILD_QUALITY_MEDIUM: no spatial splits, so
-  /// an occlusion filter sees each triangle at most once per ray).
-  explicit EmbreeScene(const Scene& scene);
+  /// an occlusion filter sees each triangle at most once per ray). `updates` says how update()
+  /// will rebuild it: refit marks every geometry RTC_BUILD_QUALITY_REFIT (the first build is
+  /// the same full build).
+  explicit EmbreeScene(const Scene& scene, BvhUpdate updates = BvhUpdate::rebuild);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
   const Scene& scene() const { return *scene_; }
   RTCScene handle() const { return rtc_scene_; }
-  /// Wall time of the BVH build, milliseconds.
+  /// Wall time of the BVH build (or of the last update()), milliseconds.
   double build_ms() const { return build_ms_; }
+  /// Whether `scene` has this BVH's meshes with the same vertex and triangle counts: what
+  /// update() needs.
+  bool same_topology(const Scene& scene) const;
+  /// Moves the vertices to those of `scene` (same topology, same materials: the next frame of an
+  /// animation) and commits the scene again, rebuilding or refitting as constructed. `scene`
+  /// replaces the one given before and must outlive every ray traced after. Throws Error when
+  /// the topology differs. build_ms() then is this update's wall time.
+  void update(const Scene& scene);
   /// Wall time of the Embree device's creation (its thread pool, CPU dispatch), milliseconds.
   double device_ms() const { return device_ms_; }
   /// Mesh index of an Embree geometry id.
@@ -42,6 +58,7 @@ class EmbreeScene {
   RTCDevice device_ = nullptr;
   RTCScene rtc_scene_ = nullptr;
   std::vector<int> mesh_of_geom_;
+  std::vector<unsigned> geom_of_mesh_;
   std::vector<GeometryData> geometry_data_;  // filter-function user data, one per mesh
   double build_ms_ = 0.0;
   double device_ms_ = 0.0;

@@ -4,6 +4,8 @@
 // 16-wide packets (rtcOccluded16): on this hardware class about 3× faster than single rays.
 #include <atomic>
 #include <chrono>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "penumbra/core/error.hpp"
@@ -23,10 +25,25 @@ constexpr int kPacket = 16;
 class Raytrace final : public ShadowMethod {
  public:
   explicit Raytrace(const MethodOptions& options)
-      : packets_(options.get_choice("path") == "packet16") {}
+      : packets_(options.get_choice("path") == "packet16"), bvh_(options.get_choice("bvh")) {}
+
+  /// With bvh=rebuild or refit the method keeps a BVH of its own, built at the first prepare()
+  /// and updated at each later one (an animation's next pose): its cost is the method's, stage
+  /// `bvh_update` of the next compute. With bvh=shared it traces the frame's BVH.
+  void prepare(const Scene& scene) override {
+    if (bvh_ == "shared") return;
+    const auto start = std::chrono::steady_clock::now();
+    if (own_ && own_->same_topology(scene))
+      own_->update(scene);
+    else
+      own_ = std::make_unique<EmbreeScene>(scene,
+                                           bvh_ == "refit" ? BvhUpdate::refit : BvhUpdate::rebuild);
+    unreported_bvh_ms_ = elapsed_ms(start);
+  }
 
   Visibility compute(const ShadowContext& ctx) override {
-    if (!ctx.embree) throw Error("method 'raytrace' needs the scene's Embree BVH");
+    const EmbreeScene* bvh = own_ ? own_.get() : ctx.embree;
+    if (!bvh) throw Error("method 'raytrace' needs the scene's Embree BVH");
     const GBuffer& g = ctx.gbuffer;
     const int n = ctx.samples.count();
     // A point light has one position: trace one ray per pixel and copy its answer to every sample.
@@ -55,7 +72,7 @@ class Raytrace final : public ShadowMethod {
         const LightFrame frame = light_frame(ctx.light, origin);
         ctx.samples.pixel_samples(x, y, light_uv);
         row_rays +=
-            trace_pixel(ctx, origin, frame, light_uv.data(), traced, sample_vis.data(), scratch);
+            trace_pixel(*bvh, origin, frame, light_uv.data(), traced, sample_vis.data(), scratch);
         if (point) std::fill(sample_vis.begin() + 1, sample_vis.end(), sample_vis[0]);
 
         const SampleWeights w =
@@ -75,13 +92,15 @@ class Raytrace final : public ShadowMethod {
     vis.counters["rays"] = static_cast<double>(rays.load());
     vis.counters["rays_per_second"] =
         ms > 0.0 ? static_cast<double>(rays.load()) / (ms * 1e-3) : 0.0;
-    vis.counters["bvh_build_ms"] = ctx.embree->build_ms();
+    vis.counters["bvh_build_ms"] = bvh->build_ms();
+    // The own BVH's build or update, once, in the compute after it.
+    if (own_) vis.times.add("bvh_update", std::exchange(unreported_bvh_ms_, 0.0));
     return vis;
   }
 
  private:
   /// Fills sample_vis[0..count) with each ray's transmitted fraction (0 blocked, 1 free).
-  uint64_t trace_pixel(const ShadowContext& ctx, const Vec3& origin, const LightFrame& frame,
+  uint64_t trace_pixel(const EmbreeScene& bvh, const Vec3& origin, const LightFrame& frame,
                        const Vec2* light_uv, int count, float* sample_vis,
                        OcclusionScratch& scratch) const {
     OcclusionContext occ = scratch.context();
@@ -110,7 +129,7 @@ class Raytrace final : public ShadowMethod {
           scratch.reset(static_cast<unsigned>(l));
           traced += valid[l] != 0;
         }
-        rtcOccluded16(valid, ctx.embree->handle(), &occ.rtc, &ray);
+        rtcOccluded16(valid, bvh.handle(), &occ.rtc, &ray);
         for (int l = 0; l < lanes; ++l)
           sample_vis[base + l] =
               valid[l] == 0 ? 0.0f : (ray.tfar[l] < 0.0f ? 0.0f : scratch.transmittance(l));
@@ -132,7 +151,7 @@ class Raytrace final : public ShadowMethod {
           ray.mask = EmbreeScene::kMaskCaster;
           ray.id = static_cast<unsigned>(l);
           scratch.reset(static_cast<unsigned>(l));
-          rtcOccluded1(ctx.embree->handle(), &occ.rtc, &ray);
+          rtcOccluded1(bvh.handle(), &occ.rtc, &ray);
           sample_vis[s] = ray.tfar < 0.0f ? 0.0f : scratch.transmittance(l);
           ++traced;
         }
@@ -142,6 +161,9 @@ class Raytrace final : public ShadowMethod {
   }
 
   bool packets_;
+  std::string bvh_;  // shared | rebuild | refit
+  std::unique_ptr<EmbreeScene> own_;
+  double unreported_bvh_ms_ = 0.0;
 };
 
 }  // namespace
@@ -156,7 +178,15 @@ void register_raytrace(MethodRegistry& registry) {
                    OptionType::choice,
                    "packet16",
                    "Embree path: coherent 16-wide packets per pixel, or single rays",
-                   {"packet16", "single"}}};
+                   {"packet16", "single"}},
+                  {"bvh",
+                   OptionType::choice,
+                   "shared",
+                   "BVH traced: the frame's (shared, built outside the method's time), or one of "
+                   "its own built in prepare and, when an animation moves the geometry, rebuilt or "
+                   "refitted each frame inside its time (stage bvh_update; render --frames makes "
+                   "shared rebuild then)",
+                   {"shared", "rebuild", "refit"}}};
   info.create = [](const MethodOptions& o) { return std::make_unique<Raytrace>(o); };
   registry.add(std::move(info));
 }
