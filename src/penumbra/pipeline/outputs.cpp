@@ -1,11 +1,15 @@
 #include "penumbra/pipeline/outputs.hpp"
 
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/simd.hpp"
+#include "penumbra/metrics/error_map.hpp"
 
 namespace penumbra {
 
@@ -200,6 +204,37 @@ ErrorStats compare_results(const Frame& frame, const MethodResult& ref, const Me
 
 Image<float> result_difference(const MethodResult& ref, const MethodResult& test) {
   return abs_difference(ref.per_light.front().lit, test.per_light.front().lit);
+}
+
+nlohmann::json write_method_frame(const std::filesystem::path& dir, const Frame& frame,
+                                  const MethodResult& result, const MethodResult* exact,
+                                  ShadingMode shading, FloatFormat format,
+                                  std::optional<ErrorStats>& error) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw Error("cannot create output folder " + quote(dir.string(), 200) + ": " + ec.message());
+  error.reset();
+  if (exact) {
+    error = compare_results(frame, *exact, result);
+    const Image<float> mask = surface_mask(frame.gbuffer());
+    write_error_map_png(dir / "error_vs_exact.png", result_difference(*exact, result),
+                        std::max(error->max_abs, 1.0 / 255.0), &mask);
+  }
+  std::vector<const Visibility*> per_light;
+  for (const Visibility& v : result.per_light) per_light.push_back(&v);
+  // The PNG encoder is serial and the EXR one mostly so: the two files are written side by
+  // side, the beauty shaded beside the EXR too, a row at a time into the PNG's bytes.
+  const RowShader beauty(frame, per_light, shading);
+  tbb::parallel_invoke(
+      [&] {
+        write_png_rgb(dir / "beauty.png", frame.gbuffer().width, frame.gbuffer().height,
+                      [&](int y, Vec3* out) { beauty.row(y, out); });
+      },
+      [&] { write_visibility(dir, frame, result, format); });
+  nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
+  stats["shading"] = std::string(to_string(shading));
+  return stats;
 }
 
 }  // namespace penumbra

@@ -5,6 +5,7 @@
 #include <deque>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,14 @@ void write_aovs(const std::filesystem::path& dir, const GBuffer& gbuffer,
 /// elapsed_ms) and, when given, the error against `exact`.
 nlohmann::json stats_json(const Frame& frame, const MethodResult& result,
                           const ErrorStats* vs_exact);
+
+/// Writes what one method's frame holds into `dir` (created if missing): beauty.png, the
+/// visibility image, and when `exact` is given error_vs_exact.png (then `error` is set). Returns
+/// stats.json's contents with "shading", not written: the caller adds its own keys.
+nlohmann::json write_method_frame(const std::filesystem::path& dir, const Frame& frame,
+                                  const MethodResult& result, const MethodResult* exact,
+                                  ShadingMode shading, FloatFormat format,
+                                  std::optional<ErrorStats>& error);
 
 /// Error of `test` against `ref` over every light's surface pixels (pooled).
 ErrorStats compare_results(const Frame& frame, const MethodResult& ref, const MethodResult& test);
