@@ -12,6 +12,7 @@ PACKAGES=(
   zlib1g-dev  # the PNG writer's deflate
   libgtest-dev libgmock-dev libbenchmark-dev libpolyclipping-dev
   hyperfine  # whole-process timings in docs/results.md
+  ffmpeg  # `render --frames`: beauty.mp4 and compare.mp4 (H.264); without it only the frames
   # The Vulkan backend: loader + headers, the GLSL compiler, lavapipe (a CPU Vulkan 1.3 device,
   # so the GPU tests run everywhere) and the validation layer.
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers
