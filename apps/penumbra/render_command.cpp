@@ -24,6 +24,7 @@
 #include "penumbra/pipeline/outputs.hpp"
 #include "penumbra/report/summary_table.hpp"
 #include "penumbra/scene/scene_file.hpp"
+#include "penumbra/report/sequence_run.hpp"
 
 #ifdef PENUMBRA_HAVE_VULKAN
 #include "penumbra/gpu/backend.hpp"
@@ -48,6 +49,8 @@ struct RenderArgs {
   std::string backend = "cpu";
   std::string vk_device;  // empty: $PENUMBRA_VK_DEVICE, else the first discrete GPU
   FramingArgs framing;
+  std::string frames;  // --frames START:END[:STEP]: a sequence (render_sequence.hpp)
+  double fps = 0.0;    // --fps: overrides the scene's frame rate
 };
 
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -209,6 +212,10 @@ void run_render(const RenderArgs& args) {
   std::vector<const MethodInfo*> methods = selected_methods(args.methods);
   const std::vector<MethodOptions> options = resolve_method_options(methods, args.sets);
   const std::vector<std::string> aovs = split_aovs(args.aovs);
+  std::optional<FrameRange> range;
+  if (!args.frames.empty()) range = parse_frame_range(args.frames);
+  if (args.fps > 0.0 && !range) throw Error("--fps applies to a sequence: give --frames too");
+  if (range && !aovs.empty()) throw Error("--aov writes one frame's G-buffer: not with --frames");
   // With --size the G-buffer's size is known before the scene: its layers (64 bytes a pixel,
   // mostly the first touch of their pages) are allocated by a task of their own while this thread
   // reads the scene and builds the BVH, on whichever core is free — unless they alone would take
@@ -217,8 +224,9 @@ void run_render(const RenderArgs& args) {
   GBuffer layers;
   tbb::task_group layers_task;
   const std::optional<Camera> sized = size_option(args.size);
-  const bool layers_beside = sized && 64 * static_cast<uint64_t>(sized->width) * sized->height <
-                                          available_memory_bytes() / 2;
+  const bool layers_beside =
+      !range && sized &&
+      64 * static_cast<uint64_t>(sized->width) * sized->height < available_memory_bytes() / 2;
   if (layers_beside)
     layers_task.run([&] {
       const auto start = std::chrono::steady_clock::now();
@@ -267,6 +275,13 @@ void run_render(const RenderArgs& args) {
   std::fprintf(stderr, "scene '%s': %zu triangles, %zu light(s), %dx%d, %d light samples (%s)\n",
                scene.name.c_str(), scene.triangle_count(), scene.lights.size(), scene.camera.width,
                scene.camera.height, spec.k * spec.k, args.pattern.c_str());
+  if (range) {
+    SequenceJob job{*range, args.fps, {},           spec,       shading,
+                    format, out_dir,  args.backend, device_name};
+    for (size_t m = 0; m < methods.size(); ++m) job.methods.push_back({methods[m], options[m]});
+    render_sequence(scene, job);
+    return;
+  }
   const Frame frame(scene, spec, [&] {
     if (layers_beside) layers_task.wait();
     return std::move(layers);
@@ -301,29 +316,9 @@ void run_render(const RenderArgs& args) {
 
     const auto outputs_start = std::chrono::steady_clock::now();
     const std::filesystem::path dir = several ? out_dir / result.method : out_dir;
-    std::filesystem::create_directories(dir, ec);
-    if (ec)
-      throw Error("cannot create output folder " + quote(dir.string(), 200) + ": " + ec.message());
     std::optional<ErrorStats> error;
-    if (exact) {
-      error = compare_results(frame, *exact, result);
-      const Image<float> mask = surface_mask(frame.gbuffer());
-      write_error_map_png(dir / "error_vs_exact.png", result_difference(*exact, result),
-                          std::max(error->max_abs, 1.0 / 255.0), &mask);
-    }
-    std::vector<const Visibility*> per_light;
-    for (const Visibility& v : result.per_light) per_light.push_back(&v);
-    // The PNG encoder is serial and the EXR one mostly so: the two files are written side by
-    // side, the beauty shaded beside the EXR too, a row at a time into the PNG's bytes.
-    const RowShader beauty(frame, per_light, shading);
-    tbb::parallel_invoke(
-        [&] {
-          write_png_rgb(dir / "beauty.png", frame.gbuffer().width, frame.gbuffer().height,
-                        [&](int y, Vec3* out) { beauty.row(y, out); });
-        },
-        [&] { write_visibility(dir, frame, result, format); });
-    nlohmann::json stats = stats_json(frame, result, error ? &*error : nullptr);
-    stats["shading"] = std::string(to_string(shading));
+    nlohmann::json stats =
+        write_method_frame(dir, frame, result, exact ? &*exact : nullptr, shading, format, error);
     stats["backend"] = args.backend;
     stats["device"] = device_name;
     // The whole process so far: every method run so far and their outputs, this one's included.
@@ -332,7 +327,8 @@ void run_render(const RenderArgs& args) {
     write_json(dir / "stats.json", stats);
     if (m + 1 == methods.size()) last_frame = stats["frame"];
 
-    rows.push_back({result.method, result.total_ms, error, "", result.method == "exact"});
+    rows.push_back(
+        {result.method, result.total_ms, error, "", result.method == "exact", std::nullopt});
     if (result.method == "exact") exact = std::move(result);
   }
   if (several) {
@@ -378,6 +374,11 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--vk-device", args->vk_device,
                   "Vulkan device: index or name substring (default $PENUMBRA_VK_DEVICE, else the "
                   "first discrete GPU, else the first device)");
+  cmd->add_option("--frames", args->frames,
+                  "START:END[:STEP]: render these frames of the scene's animation "
+                  "(OUT/<method>/frame_NNNN/, frames.json, frames.csv, videos with ffmpeg)");
+  cmd->add_option("--fps", args->fps, "Frame rate of --frames (default: the scene's)")
+      ->check(CLI::PositiveNumber & CLI::Range(1e-3, 1e4));
   add_framing_options(*cmd, args->framing);
   cmd->callback([args] { run_render(*args); });
 }

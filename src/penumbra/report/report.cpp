@@ -148,7 +148,7 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
     me.method = runs[m].name;
     if (!runs[m].result) {
       me.failure = runs[m].failure;
-      rows.push_back({me.method, 0.0, std::nullopt, me.failure, false});
+      rows.push_back({me.method, 0.0, std::nullopt, me.failure, false, std::nullopt});
       entry.methods.push_back(std::move(me));
       continue;
     }
@@ -179,7 +179,7 @@ SceneEntry render_scene(const std::string& name, const ReportSpec& spec,
                     crop_zoom(abs_map, entry.crop, entry.crop_zoom));
     }
     plot::write_text_file(dir / (me.method + ".json"), me.stats.dump(2) + "\n");
-    rows.push_back({me.method, me.ms, me.vs_exact, "", m == 0});
+    rows.push_back({me.method, me.ms, me.vs_exact, "", m == 0, std::nullopt});
     entry.methods.push_back(std::move(me));
   }
   entry.summary_header = summary_header(frame, "modulate");

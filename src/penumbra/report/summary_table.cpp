@@ -1,5 +1,6 @@
 #include "penumbra/report/summary_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -38,13 +39,18 @@ double equal_time_rays(int samples, double raytrace_ms, double method_ms) {
 
 std::string format_table(const std::vector<TableRow>& rows, int samples) {
   const TableRow* rt = find_row(rows, "raytrace");
+  const bool temporal = std::any_of(rows.begin(), rows.end(),
+                                    [](const TableRow& r) { return r.temporal_error.has_value(); });
   std::string out =
       "| method | time (ms) | speed vs raytrace | rays in same time | mean abs (shadowed) | "
-      "mean abs | max abs | rmse | > 1/255 |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      "mean abs | max abs | rmse | > 1/255 |";
+  out += temporal ? " temporal |\n" : "\n";
+  out += "|---|---:|---:|---:|---:|---:|---:|---:|---:|";
+  out += temporal ? "---:|\n" : "\n";
   for (const TableRow& r : rows) {
     if (!r.failure.empty()) {
-      out += "| " + r.method + " | failed: " + r.failure + " | | | | | | | |\n";
+      out += "| " + r.method + " | failed: " + r.failure + " | | | | | | | |";
+      out += temporal ? " |\n" : "\n";
       continue;
     }
     out += "| " + r.method + " | " + fmt("%.1f", r.ms) + " | ";
@@ -55,10 +61,16 @@ std::string format_table(const std::vector<TableRow>& rows, int samples) {
       const ErrorStats& e = *r.vs_exact;
       out += " | " + fmt("%.5f", e.mean_abs_shadowed) + " | " + fmt("%.5f", e.mean_abs) + " | " +
              fmt("%.4f", e.max_abs) + " | " + fmt("%.5f", e.rmse) + " | " +
-             fmt("%.4f", e.frac_over_1_255) + " |\n";
+             fmt("%.4f", e.frac_over_1_255) + " |";
     } else {
-      out += r.reference ? " | (reference) | | | | |\n" : " | - | - | - | - | - |\n";
+      out += r.reference ? " | (reference) | | | | |" : " | - | - | - | - | - |";
     }
+    if (temporal) {
+      out += ' ';
+      out += r.temporal_error ? fmt("%.5f", *r.temporal_error) : std::string("-");
+      out += " |";
+    }
+    out += "\n";
   }
   return out;
 }
@@ -107,6 +119,7 @@ nlohmann::json table_json(const std::vector<TableRow>& rows, const Frame& frame)
       if (rt && rt->ms > 0.0)
         j["equal_time_rays"] = equal_time_rays(frame.samples().count(), rt->ms, r.ms);
       if (r.vs_exact) j["error_vs_exact"] = to_json(*r.vs_exact);
+      if (r.temporal_error) j["temporal_error"] = *r.temporal_error;
     }
     methods.push_back(j);
   }

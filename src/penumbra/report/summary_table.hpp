@@ -19,6 +19,9 @@ struct TableRow {
   std::optional<ErrorStats> vs_exact;  // against the reference; absent for the reference itself
   std::string failure;                 // the method's error message when it could not run
   bool reference = false;              // the row every error is measured against
+  /// A frame sequence's mean temporal error against the reference (pipeline/sequence.hpp); a
+  /// table with any row holding one gets a `temporal` column.
+  std::optional<double> temporal_error;
 };
 
 /// What the table is about, one line: scene, size, light samples and pattern, shading.
