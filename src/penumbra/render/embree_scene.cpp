@@ -74,7 +74,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, BvhUpdate updates) : scene_(&scene)
   rtc_scene_ = rtcNewScene(device_);
   // Robust mode: watertight triangle tests, so shadow rays never leak through shared edges.
   rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_MEDIUM);
+  // Refit needs Embree's two-level structure, which only a scene of RTC_BUILD_QUALITY_LOW builds
+  // (one BVH per geometry, each refitted or rebuilt by its own quality, under a top level rebuilt
+  // each commit); otherwise the scene is one BVH over every triangle, rebuilt whole each commit.
+  rtcSetSceneBuildQuality(
+      rtc_scene_, updates == BvhUpdate::refit ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM);
 
   geometry_data_.resize(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {

@@ -16,15 +16,16 @@ struct GeometryData;
 /// What update() does to the BVH when the vertices move (a deforming or moving mesh).
 enum class BvhUpdate {
   rebuild,  // a full build of every geometry's BVH, as the first (RTC_BUILD_QUALITY_MEDIUM)
-  refit,    // the same tree, its boxes refitted to the new vertices (RTC_BUILD_QUALITY_REFIT)
+  refit,    // Embree's two-level BVH (scene RTC_BUILD_QUALITY_LOW): each moved geometry's tree
+            // kept, its boxes refitted to the new vertices (RTC_BUILD_QUALITY_REFIT)
 };
 
 class EmbreeScene {
  public:
   /// Builds the BVH over every mesh (static scene, RTC_BUILD_QUALITY_MEDIUM: no spatial splits, so
   /// an occlusion filter sees each triangle at most once per ray). `updates` says how update()
-  /// will rebuild it: refit marks every geometry RTC_BUILD_QUALITY_REFIT (the first build is
-  /// the same full build).
+  /// will rebuild it: refit builds the two-level structure with every geometry of
+  /// RTC_BUILD_QUALITY_REFIT.
   explicit EmbreeScene(const Scene& scene, BvhUpdate updates = BvhUpdate::rebuild);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
