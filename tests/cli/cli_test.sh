@@ -128,6 +128,33 @@ fi
 expect_error "sweep" report --scene quad --method exact --sweep nosuch --out "$work/x"
 expect_error "light-size" render --scene "$work/tetra.obj" --method exact --light-size -1 --out "$work/x"
 
+# Sequences (render --frames): the range is checked before the scene is read, a still scene is
+# refused, --fps needs --frames.
+expect_error "the scene is still" render --scene quad --method gears --frames 0:3 --size 16x16 --out "$work/x"
+expect_error "STEP must be at least 1" render --scene nosuchscene --method gears --frames 0:3:0 --out "$work/x"
+expect_error "expected START:END" render --scene nosuchscene --method gears --frames 3 --out "$work/x"
+expect_error "must be a whole number" render --scene nosuchscene --method gears --frames a:3 --out "$work/x"
+expect_error "must be a whole number" render --scene nosuchscene --method gears --frames -1:3 --out "$work/x"
+expect_error "END is before START" render --scene nosuchscene --method gears --frames 5:2 --out "$work/x"
+expect_error "--fps applies to a sequence" render --scene quad --method gears --fps 30 --out "$work/x"
+expect_error "fps" render --scene quad --method gears --frames 0:1 --fps 0 --out "$work/x"
+# With an animated built-in scene (once the scene side provides them): one entry per frame and
+# method in frames.json, and a range beyond the animation refused.
+if "$bin" list 2>/dev/null | grep -q "fence_spin"; then
+  if "$bin" render --scene fence_spin --method exact --method gears --frames 0:2 --size 32x32 \
+    --samples 2 --out "$work/seq" >/dev/null 2>"$work/err.txt"; then
+    python3 -c 'import json,math,sys; d=json.load(open(sys.argv[1])); e=d["frames"]; assert len(e)==6, len(e); assert all(math.isfinite(x["total_ms"]) for x in e)' \
+      "$work/seq/frames.json" && ok || bad "frames.json: not one finite entry per frame and method"
+    [ -s "$work/seq/gears/frame_0002/beauty.png" ] && ok || bad "no gears/frame_0002/beauty.png"
+    if command -v ffmpeg >/dev/null; then
+      [ -s "$work/seq/compare.mp4" ] && ok || bad "ffmpeg installed but no compare.mp4"
+    fi
+  else
+    bad "render --frames fence_spin failed: $(cat "$work/err.txt")"
+  fi
+  expect_error "the animation has frames" render --scene fence_spin --method gears --frames 0:100000 --size 16x16 --out "$work/x"
+fi
+
 # Bad input: clear one-line errors.
 expect_error "unknown scene" render --scene nosuchscene --method exact --out "$work/x"
 expect_error "unknown method" render --scene quad --method nosuch --out "$work/x"
