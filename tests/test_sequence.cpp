@@ -241,6 +241,7 @@ TEST(Sequence, RenderSequenceWritesFramesJsonCsvAndVideos) {
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, 1 + 4 * 3);
+  EXPECT_GT(fs::file_size(out / "index.html"), 1000u);
   if (!find_executable("ffmpeg")) GTEST_SKIP() << "ffmpeg not installed: no videos to check";
   for (const char* video : {"exact/beauty.mp4", "gears/beauty.mp4", "compare.mp4"})
     EXPECT_GT(fs::file_size(out / video), 500u) << video;

@@ -8,6 +8,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/pipeline/video.hpp"
+#include "penumbra/report/sequence_page.hpp"
 #include "penumbra/report/summary_table.hpp"
 
 namespace penumbra {
@@ -176,19 +177,21 @@ std::vector<TableRow> summary_rows(const SequenceJob& job, const std::vector<Met
   return rows;
 }
 
-void write_videos_if_possible(const SequenceJob& job, const std::vector<int>& frames, double fps) {
+/// Whether the videos were written.
+bool write_videos_if_possible(const SequenceJob& job, const std::vector<int>& frames, double fps) {
   const std::optional<fs::path> ffmpeg = find_executable("ffmpeg");
   if (!ffmpeg) {
     std::fprintf(stderr,
                  "note: ffmpeg not found: no beauty.mp4 or compare.mp4 (scripts/setup.sh "
                  "installs it)\n");
-    return;
+    return false;
   }
   std::vector<std::string> names;
   for (const SequenceMethod& m : job.methods) names.push_back(m.info->name);
   write_videos(*ffmpeg, job.out, names, frames, fps);
   std::fprintf(stderr, "videos: %s/<method>/beauty.mp4, %s/compare.mp4\n", job.out.c_str(),
                job.out.c_str());
+  return true;
 }
 
 }  // namespace
@@ -243,7 +246,9 @@ void render_sequence(Scene& scene, const SequenceJob& job) {
       format_table(rows, samples) + "\n" + table_column_key();
   std::printf("%s", table.c_str());
   write_text_file(job.out / "summary.md", table);
-  write_videos_if_possible(job, frames, anim.fps);
+  const bool videos = write_videos_if_possible(job, frames, anim.fps);
+  write_text_file(job.out / "index.html", sequence_page_html(doc, videos));
+  std::fprintf(stderr, "report: %s\n", (job.out / "index.html").c_str());
 }
 
 }  // namespace penumbra
