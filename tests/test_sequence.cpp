@@ -164,6 +164,38 @@ TEST(Sequence, StillGeometryIsPreparedOnce) {
   }
 }
 
+// A method prepared again on the next pose (the same object, as the sequence reuses it) gives
+// what a method created and prepared for that pose alone gives.
+TEST(Sequence, RepreparedMethodsEqualFreshOnes) {
+  const Scene rest = animated("bend");
+  const std::vector<std::string> names = {"exact", "gears", "dcs", "wedges"};
+  std::vector<std::pair<std::string, std::map<std::string, std::string>>> list;
+  for (const std::string& n : names) list.push_back({n, {}});
+  SequenceRenderer renderer(rest, methods(list), test::grid_samples(4), false);
+  for (int f = 0; f < rest.animation.frame_count(); ++f) {
+    const SequenceFrame frame = renderer.render(f);
+    const Frame fresh(*frame.scene, test::grid_samples(4));
+    for (size_t m = 0; m < names.size(); ++m) {
+      const MethodInfo& info = MethodRegistry::builtin().get(names[m]);
+      const MethodResult alone = fresh.run(info, resolve_options(info, {}), false);
+      EXPECT_EQ(frame.results[m].per_light[0].lit.pixels(), alone.per_light[0].lit.pixels())
+          << "frame " << f << " " << names[m];
+    }
+  }
+}
+
+TEST(Sequence, UnwritableOutputIsAnError) {
+  Scene rest = animated_quad(false);
+  const fs::path file = fs::path(::testing::TempDir()) / "penumbra_sequence_not_a_folder";
+  std::ofstream(file) << "x";
+  SequenceJob job;
+  job.range = parse_frame_range("0:1");
+  job.methods = methods({{"gears", {}}});
+  job.samples = test::grid_samples(2);
+  job.out = file / "out";
+  EXPECT_THROW(render_sequence(rest, job), Error);
+}
+
 TEST(Sequence, TemporalErrorIsZeroForTheReferenceAndMeasuresFlicker) {
   const Scene rest = animated_quad(true);
   SequenceRenderer renderer(rest, methods({{"exact", {}}, {"shadow_map", {}}}),
