@@ -1,5 +1,4 @@
 // `penumbra render`: one frame, one or more methods, images + stats + a comparison table.
-#include <tbb/parallel_invoke.h>
 #include <tbb/task_group.h>
 #include <unistd.h>
 
@@ -20,11 +19,10 @@
 #include "penumbra/core/files.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/core/stats.hpp"
-#include "penumbra/metrics/error_map.hpp"
 #include "penumbra/pipeline/outputs.hpp"
+#include "penumbra/report/sequence_run.hpp"
 #include "penumbra/report/summary_table.hpp"
 #include "penumbra/scene/scene_file.hpp"
-#include "penumbra/report/sequence_run.hpp"
 
 #ifdef PENUMBRA_HAVE_VULKAN
 #include "penumbra/gpu/backend.hpp"
