@@ -197,6 +197,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   }
 
   const auto& occluders = scene.occluders();
+  const auto& neighbours = scene.neighbours();
   // Per solid, decided at its first candidate (most pixels meet few solids).
   thread_local std::vector<Cull> cull;
   cull.assign(scene.solids().size(), Cull::unknown);
@@ -416,13 +417,13 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   // union positively oriented (see project_polygon).
   const bool det_positive = glm::dot(proj.to_u, glm::cross(proj.to_v, proj.to_w)) > 0.0;
   const auto emit = [&](uint32_t prim, const ClippedPolygon& c) {
-    const ExactOccluder& o = occluders[prim];
+    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
     const uint32_t own = sc.stamp[prim];
     const bool flip = det_positive == ((own & 1u) != 0);
     for (int i = 0; i < c.n; ++i) {
       const int e = c.edge[i];
       if (e >= 0) {
-        const uint32_t nb = o.neighbour[e];
+        const uint32_t nb = neighbour[e];
         if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
       }
       const ClipperLib::IntPoint& a = c.q[i];
@@ -436,11 +437,11 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   sc.uv.clear();
   sc.uv_prim.clear();
   const auto emit_open = [&](uint32_t prim, const DVec2* q) {
-    const ExactOccluder& o = occluders[prim];
+    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
     const uint32_t own = sc.stamp[prim];
     const bool flip = det_positive == ((own & 1u) != 0);
     for (int e = 0; e < 3; ++e) {
-      const uint32_t nb = o.neighbour[e];
+      const uint32_t nb = neighbour[e];
       if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
       const DVec2& a = q[e];
       const DVec2& b = q[e == 2 ? 0 : e + 1];
@@ -451,12 +452,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
   ClippedPolygon unclipped;
   for (const uint32_t prim : sc.inside) {
-    const ExactOccluder& o = occluders[prim];
     const uint32_t own = sc.stamp[prim];
     bool interior = true;
-    for (const uint32_t nb : o.neighbour)
+    for (const uint32_t nb : neighbours[prim])
       interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
     if (interior) continue;
+    const ExactOccluder& o = occluders[prim];
     if (open_ok) {
       DVec2 q[3];
       for (int k = 0; k < 3; ++k) q[k] = open_uv(proj.homogeneous(o.v[k]));
@@ -493,9 +494,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     const auto listed = [&](uint32_t prim) {
       return sc.local[prim] < sc.kept.size() && sc.kept[sc.local[prim]] == prim;
     };
+    // Each shared edge once, from its triangle with the larger index (kNoNeighbour is larger
+    // than any): both triangles are listed or the edge joins nothing either way.
     const auto join = [&](uint32_t prim) {
-      for (const uint32_t nb : occluders[prim].neighbour)
-        if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == sc.stamp[prim] && listed(nb))
+      const uint32_t own = sc.stamp[prim];
+      for (const uint32_t nb : neighbours[prim])
+        if (nb < prim && sc.stamp[nb] == own && listed(nb))
           sc.parent[find(sc.local[prim])] = find(sc.local[nb]);
     };
     for (size_t i = 0; i < clipped_count; ++i) join(sc.tri[i]);

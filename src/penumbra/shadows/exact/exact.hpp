@@ -121,6 +121,9 @@ class ExactScene {
 
   const Scene& scene() const { return *scene_; }
   const std::vector<ExactOccluder>& occluders() const { return occluders_; }
+  /// occluders()[t].neighbour, packed (12 bytes a triangle): the per-pixel edge cancellation and
+  /// grouping read it for every kept triangle, mostly in scattered order.
+  const std::vector<std::array<uint32_t, 3>>& neighbours() const { return neighbours_; }
   const std::vector<ExactPiece>& pieces() const { return pieces_; }
   const std::vector<DVec3>& piece_vertices() const { return piece_vertices_; }
   const ExactBvh& bvh() const { return bvh_; }
@@ -134,6 +137,7 @@ class ExactScene {
  private:
   const Scene* scene_;
   std::vector<ExactOccluder> occluders_;
+  std::vector<std::array<uint32_t, 3>> neighbours_;
   std::vector<ExactPiece> pieces_;
   std::vector<DVec3> piece_vertices_;
   std::vector<ExactSolid> solids_;
