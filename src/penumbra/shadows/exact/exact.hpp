@@ -37,21 +37,23 @@ struct ExactOptions {
 
 /// One shadow-casting triangle, in double precision (the float vertices convert exactly).
 struct ExactOccluder {
-  DVec3 v[3];
-  /// 0: opaque. In (0, 1): every crossing multiplies the light by it (semi-opaque).
-  double transmittance = 0.0;
-  /// Alpha-textured triangle partly cut away by its mask: only its opaque pieces
-  /// pieces()[piece_first, piece_first + piece_count) block light. False: the whole triangle.
-  bool cut = false;
-  uint32_t piece_first = 0;
-  uint32_t piece_count = 0;
+  // The fields every candidate reads (its side of the receiver, its solid, how it blocks) first,
+  // with v[0]: the back-face test then touches 64 bytes, not both ends of the record.
+  /// (v1 − v0) × (v2 − v0), unnormalised: the receiver p sees the positive side where
+  /// normal · (p − v0) > 0.
+  DVec3 normal{0.0};
   /// Index into ExactScene::solids() when the triangle belongs to an opaque uncut mesh, else
   /// kNotSolid.
   uint32_t solid = kNotSolid;
   static constexpr uint32_t kNotSolid = 0xFFFFFFFFu;
-  /// (v1 − v0) × (v2 − v0), unnormalised: the receiver p sees the positive side where
-  /// normal · (p − v0) > 0.
-  DVec3 normal{0.0};
+  /// Alpha-textured triangle partly cut away by its mask: only its opaque pieces
+  /// pieces()[piece_first, piece_first + piece_count) block light. False: the whole triangle.
+  bool cut = false;
+  /// 0: opaque. In (0, 1): every crossing multiplies the light by it (semi-opaque).
+  double transmittance = 0.0;
+  DVec3 v[3];
+  uint32_t piece_first = 0;
+  uint32_t piece_count = 0;
   /// Opaque uncut triangles: neighbour[k] is the occluder across the edge v[k] → v[k+1] when that
   /// edge (welded by bit-identical position) belongs to exactly one other triangle of the same
   /// mesh, traversing it the other way; else kNoNeighbour. Shared edges of two triangles whose
