@@ -530,14 +530,19 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
     // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
     append_uv_edges(sc.edges, sc.uv);
+    r.silhouette_edges = static_cast<uint32_t>(sc.uv.size());
     double area = 0.0;
+    SweepWork work;
     if (sc.uv.size() <= kDivideAboveEdges) {
-      area = uncovered_square_area(sc.uv, &r.sweep_edge_beams);
+      area = uncovered_square_area(sc.uv, &work);
     } else {
       sc.uv_prim.insert(sc.uv_prim.end(), sc.edge_prim.begin(), sc.edge_prim.end());
       label_cancellation_groups(sc.uv_prim);
-      area = uncovered_square_area(sc.uv, sc.uv_prim, &r.sweep_edge_beams);
+      area = uncovered_square_area(sc.uv, sc.uv_prim, &work);
     }
+    r.sweep_edge_beams = work.edge_beams;
+    r.sweep_beams = work.beams;
+    r.sweep_crossings = work.crossings;
     const double v = area / outline.area;
     r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
     r.visible_rgb = DVec3(r.visible);
@@ -612,7 +617,7 @@ class ExactMethod final : public ShadowMethod {
     struct RowStats {
       double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
       double lit = 0, umbra = 0, penumbra = 0, degenerate = 0, umbra_by_ball = 0;
-      double sweep_edge_beams = 0;
+      double sweep_edge_beams = 0, sweep_beams = 0, sweep_crossings = 0, silhouette_edges = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
     {
@@ -635,6 +640,9 @@ class ExactMethod final : public ShadowMethod {
           s.degenerate += r.degenerate ? 1 : 0;
           s.umbra_by_ball += r.umbra_by_ball ? 1 : 0;
           s.sweep_edge_beams += static_cast<double>(r.sweep_edge_beams);
+          s.sweep_beams += static_cast<double>(r.sweep_beams);
+          s.sweep_crossings += static_cast<double>(r.sweep_crossings);
+          s.silhouette_edges += r.silhouette_edges;
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
           } else if (r.visible <= 1e-9) {
@@ -660,6 +668,9 @@ class ExactMethod final : public ShadowMethod {
       t.degenerate += s.degenerate;
       t.umbra_by_ball += s.umbra_by_ball;
       t.sweep_edge_beams += s.sweep_edge_beams;
+      t.sweep_beams += s.sweep_beams;
+      t.sweep_crossings += s.sweep_crossings;
+      t.silhouette_edges += s.silhouette_edges;
     }
     Counters& c = vis.counters;
     c["pixels"] = t.pixels;
@@ -675,6 +686,9 @@ class ExactMethod final : public ShadowMethod {
     c["degenerate_fallbacks"] = t.degenerate;
     c["pixels_umbra_by_ball"] = t.umbra_by_ball;
     c["sweep_edge_beams"] = t.sweep_edge_beams;
+    c["sweep_beams"] = t.sweep_beams;
+    c["sweep_crossings"] = t.sweep_crossings;
+    c["silhouette_edges"] = t.silhouette_edges;
     size_t balls = 0;
     for (const ExactSolid& solid : scene.solids()) balls += solid.balls.size();
     c["inner_balls"] = static_cast<double>(balls);

@@ -193,6 +193,10 @@ struct ExactPointResult {
   /// The area sweep's work: edges crossing each of its beams, summed over every sweep (the
   /// square's union and, with many edges, the outlines of its parts; union_area.hpp).
   uint64_t sweep_edge_beams = 0;
+  uint64_t sweep_beams = 0;      // the beams of those sweeps
+  uint64_t sweep_crossings = 0;  // edge crossings found inside their beams
+  /// Light-uv edges of the projected silhouette given to the area sweep (opaque rectangular case).
+  uint32_t silhouette_edges = 0;
 };
 
 /// Carried from one receiver to the next (exact_visibility): was the previous one in umbra by the
