@@ -732,7 +732,7 @@ void register_exact(MethodRegistry& registry) {
        1 << 20},
       {"leaf_size",
        OptionType::integer,
-       "4",
+       "8",
        "triangles per leaf of the reference's own BVH",
        {},
        1,
