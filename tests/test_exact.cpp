@@ -760,7 +760,7 @@ TEST(Exact, RegisteredWithOptions) {
   EXPECT_FALSE(info->sample_exact);  // analytic, not sample-equal to raytrace
   const MethodOptions o = resolve_options(*info, {{"disk_segments", "64"}});
   EXPECT_EQ(o.get_int("disk_segments"), 64);
-  EXPECT_EQ(o.get_int("leaf_size"), 4);
+  EXPECT_EQ(o.get_int("leaf_size"), 8);
   EXPECT_NE(info->create(o), nullptr);
 }
 

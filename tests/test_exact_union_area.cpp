@@ -239,7 +239,7 @@ TEST(ExactUnionArea, StackedCopiesCostNLogNNotNSquared) {
   // (every copy's edges in every beam); divided, each level of the merge tree costs about the
   // outlines' size, O(N), over log2(edges / kLeafEdges) levels.
   const double square = kUvScale * kUvScale;
-  uint64_t one_work[2] = {0, 0}, divided_work[2] = {0, 0};
+  SweepWork one_work[2], divided_work[2];
   const int counts[2] = {500, 2000};
   for (int i = 0; i < 2; ++i) {
     std::vector<UvEdge> edges;
@@ -250,11 +250,13 @@ TEST(ExactUnionArea, StackedCopiesCostNLogNNotNSquared) {
     EXPECT_NEAR(divided / square, one / square, 1e-12);
     EXPECT_GT(one / square, 0.01);
   }
-  const double one_ratio = static_cast<double>(one_work[1]) / static_cast<double>(one_work[0]);
-  const double ratio = static_cast<double>(divided_work[1]) / static_cast<double>(divided_work[0]);
+  const double one_ratio =
+      static_cast<double>(one_work[1].edge_beams) / static_cast<double>(one_work[0].edge_beams);
+  const double ratio = static_cast<double>(divided_work[1].edge_beams) /
+                       static_cast<double>(divided_work[0].edge_beams);
   std::printf("work 500 -> 2000 copies: one sweep %.1fx (%llu), divided %.2fx (%llu)\n", one_ratio,
-              static_cast<unsigned long long>(one_work[1]), ratio,
-              static_cast<unsigned long long>(divided_work[1]));
+              static_cast<unsigned long long>(one_work[1].edge_beams), ratio,
+              static_cast<unsigned long long>(divided_work[1].edge_beams));
   EXPECT_GT(one_ratio, 12.0);
   const double leaves = static_cast<double>(kLeafEdges);
   EXPECT_LE(ratio, 4.0 * std::log2(6000.0 / leaves) / std::log2(1500.0 / leaves));  // 5.44

@@ -60,35 +60,40 @@ uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vect
     // Binned SAH over all three axes (Wald 2007): cost = area(left)·n_left + area(right)·n_right.
     float best_cost = std::numeric_limits<float>::infinity();
     int best_axis = -1, best_split = 0;
+    // All three axes binned in one pass over the primitives (they are read scattered).
+    Bounds3 bin_bounds[3][kBins];
+    uint32_t bin_count[3][kBins] = {};
+    float scale[3];
+    for (int axis = 0; axis < 3; ++axis)
+      scale[axis] = extent[axis] > 0.0f ? static_cast<float>(kBins) / extent[axis] : 0.0f;
+    for (uint32_t k = begin; k < end; ++k) {
+      const uint32_t prim = order_[k];
+      const Bounds3& box = boxes[prim];
+      for (int axis = 0; axis < 3; ++axis) {
+        const int b = std::clamp(
+            static_cast<int>((centroids[prim][axis] - centroid_bounds.lo[axis]) * scale[axis]), 0,
+            kBins - 1);
+        bin_bounds[axis][b].extend(box);
+        ++bin_count[axis][b];
+      }
+    }
     for (int axis = 0; axis < 3; ++axis) {
       if (!(extent[axis] > 0.0f)) continue;
-      const float scale = static_cast<float>(kBins) / extent[axis];
-      const auto bin_of = [&](uint32_t prim) {
-        const int b = static_cast<int>((centroids[prim][axis] - centroid_bounds.lo[axis]) * scale);
-        return std::clamp(b, 0, kBins - 1);
-      };
-      Bounds3 bin_bounds[kBins];
-      uint32_t bin_count[kBins] = {};
-      for (uint32_t k = begin; k < end; ++k) {
-        const int b = bin_of(order_[k]);
-        bin_bounds[b].extend(boxes[order_[k]]);
-        ++bin_count[b];
-      }
       float right_area[kBins];
       uint32_t right_count[kBins];
       Bounds3 acc;
       uint32_t n = 0;
       for (int b = kBins - 1; b > 0; --b) {
-        acc.extend(bin_bounds[b]);
-        n += bin_count[b];
+        acc.extend(bin_bounds[axis][b]);
+        n += bin_count[axis][b];
         right_area[b] = half_area(acc);
         right_count[b] = n;
       }
       acc = Bounds3();
       n = 0;
       for (int split = 1; split < kBins; ++split) {  // left = bins [0, split)
-        acc.extend(bin_bounds[split - 1]);
-        n += bin_count[split - 1];
+        acc.extend(bin_bounds[axis][split - 1]);
+        n += bin_count[axis][split - 1];
         if (n == 0 || right_count[split] == 0) continue;
         const float cost = half_area(acc) * static_cast<float>(n) +
                            right_area[split] * static_cast<float>(right_count[split]);

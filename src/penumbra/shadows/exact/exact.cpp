@@ -197,6 +197,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   }
 
   const auto& occluders = scene.occluders();
+  const auto& neighbours = scene.neighbours();
   // Per solid, decided at its first candidate (most pixels meet few solids).
   thread_local std::vector<Cull> cull;
   cull.assign(scene.solids().size(), Cull::unknown);
@@ -305,11 +306,29 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   const std::vector<ExactBvh::Node>& nodes = scene.bvh().nodes();
   scene.bvh().traverse_classified(
       [&](const ExactBvh::Node& n, bool inside) {
+        // A leaf's occluders are slots [first, first + count) (leaf order): their records are
+        // fetched while its box is classified, the first thing their visit reads.
+        if (n.count > 0) {
+          const char* record = reinterpret_cast<const char*>(&occluders[n.first]);
+          const char* last = reinterpret_cast<const char*>(&occluders[n.first + n.count - 1]);
+          for (; record <= last; record += 64) __builtin_prefetch(record);
+        }
         // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
         // holding a whole solid seen from outside has both sides, its children often one.
+        const size_t index = static_cast<size_t>(&n - nodes.data());
+        // The cones are read after the box test: fetched meanwhile (an 80-byte record, two lines).
+        const auto fetch_cone = [&](size_t k) {
+          __builtin_prefetch(&cones[k]);
+          __builtin_prefetch(reinterpret_cast<const char*>(&cones[k]) + 64);
+        };
+        if (!cones.empty()) fetch_cone(index);
         const int c = inside ? ExactBvh::kInside : classify_box(proj, n.lo, n.hi);
         if (c == ExactBvh::kOutside || cones.empty()) return c;
-        const ExactNodeCone& cone = cones[static_cast<size_t>(&n - nodes.data())];
+        if (n.count == 0) {  // descending: both children's cones
+          fetch_cone(index + 1);
+          fetch_cone(n.first);
+        }
+        const ExactNodeCone& cone = cones[index];
         if (cone.solid == ExactOccluder::kNotSolid) return c;
         Cull& mode = cull[cone.solid];
         if (mode == Cull::unknown) mode = cull_mode(scene, cone.solid, p, light_box, proj);
@@ -416,13 +435,13 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   // union positively oriented (see project_polygon).
   const bool det_positive = glm::dot(proj.to_u, glm::cross(proj.to_v, proj.to_w)) > 0.0;
   const auto emit = [&](uint32_t prim, const ClippedPolygon& c) {
-    const ExactOccluder& o = occluders[prim];
+    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
     const uint32_t own = sc.stamp[prim];
     const bool flip = det_positive == ((own & 1u) != 0);
     for (int i = 0; i < c.n; ++i) {
       const int e = c.edge[i];
       if (e >= 0) {
-        const uint32_t nb = o.neighbour[e];
+        const uint32_t nb = neighbour[e];
         if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
       }
       const ClipperLib::IntPoint& a = c.q[i];
@@ -436,11 +455,11 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   sc.uv.clear();
   sc.uv_prim.clear();
   const auto emit_open = [&](uint32_t prim, const DVec2* q) {
-    const ExactOccluder& o = occluders[prim];
+    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
     const uint32_t own = sc.stamp[prim];
     const bool flip = det_positive == ((own & 1u) != 0);
     for (int e = 0; e < 3; ++e) {
-      const uint32_t nb = o.neighbour[e];
+      const uint32_t nb = neighbour[e];
       if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
       const DVec2& a = q[e];
       const DVec2& b = q[e == 2 ? 0 : e + 1];
@@ -451,12 +470,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
   ClippedPolygon unclipped;
   for (const uint32_t prim : sc.inside) {
-    const ExactOccluder& o = occluders[prim];
     const uint32_t own = sc.stamp[prim];
     bool interior = true;
-    for (const uint32_t nb : o.neighbour)
+    for (const uint32_t nb : neighbours[prim])
       interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
     if (interior) continue;
+    const ExactOccluder& o = occluders[prim];
     if (open_ok) {
       DVec2 q[3];
       for (int k = 0; k < 3; ++k) q[k] = open_uv(proj.homogeneous(o.v[k]));
@@ -493,9 +512,12 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     const auto listed = [&](uint32_t prim) {
       return sc.local[prim] < sc.kept.size() && sc.kept[sc.local[prim]] == prim;
     };
+    // Each shared edge once, from its triangle with the larger index (kNoNeighbour is larger
+    // than any): both triangles are listed or the edge joins nothing either way.
     const auto join = [&](uint32_t prim) {
-      for (const uint32_t nb : occluders[prim].neighbour)
-        if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == sc.stamp[prim] && listed(nb))
+      const uint32_t own = sc.stamp[prim];
+      for (const uint32_t nb : neighbours[prim])
+        if (nb < prim && sc.stamp[nb] == own && listed(nb))
           sc.parent[find(sc.local[prim])] = find(sc.local[nb]);
     };
     for (size_t i = 0; i < clipped_count; ++i) join(sc.tri[i]);
@@ -508,14 +530,19 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
     // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
     append_uv_edges(sc.edges, sc.uv);
+    r.silhouette_edges = static_cast<uint32_t>(sc.uv.size());
     double area = 0.0;
+    SweepWork work;
     if (sc.uv.size() <= kDivideAboveEdges) {
-      area = uncovered_square_area(sc.uv, &r.sweep_edge_beams);
+      area = uncovered_square_area(sc.uv, &work);
     } else {
       sc.uv_prim.insert(sc.uv_prim.end(), sc.edge_prim.begin(), sc.edge_prim.end());
       label_cancellation_groups(sc.uv_prim);
-      area = uncovered_square_area(sc.uv, sc.uv_prim, &r.sweep_edge_beams);
+      area = uncovered_square_area(sc.uv, sc.uv_prim, &work);
     }
+    r.sweep_edge_beams = work.edge_beams;
+    r.sweep_beams = work.beams;
+    r.sweep_crossings = work.crossings;
     const double v = area / outline.area;
     r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
     r.visible_rgb = DVec3(r.visible);
@@ -590,7 +617,7 @@ class ExactMethod final : public ShadowMethod {
     struct RowStats {
       double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
       double lit = 0, umbra = 0, penumbra = 0, degenerate = 0, umbra_by_ball = 0;
-      double sweep_edge_beams = 0;
+      double sweep_edge_beams = 0, sweep_beams = 0, sweep_crossings = 0, silhouette_edges = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
     {
@@ -613,6 +640,9 @@ class ExactMethod final : public ShadowMethod {
           s.degenerate += r.degenerate ? 1 : 0;
           s.umbra_by_ball += r.umbra_by_ball ? 1 : 0;
           s.sweep_edge_beams += static_cast<double>(r.sweep_edge_beams);
+          s.sweep_beams += static_cast<double>(r.sweep_beams);
+          s.sweep_crossings += static_cast<double>(r.sweep_crossings);
+          s.silhouette_edges += r.silhouette_edges;
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
           } else if (r.visible <= 1e-9) {
@@ -638,6 +668,9 @@ class ExactMethod final : public ShadowMethod {
       t.degenerate += s.degenerate;
       t.umbra_by_ball += s.umbra_by_ball;
       t.sweep_edge_beams += s.sweep_edge_beams;
+      t.sweep_beams += s.sweep_beams;
+      t.sweep_crossings += s.sweep_crossings;
+      t.silhouette_edges += s.silhouette_edges;
     }
     Counters& c = vis.counters;
     c["pixels"] = t.pixels;
@@ -653,6 +686,9 @@ class ExactMethod final : public ShadowMethod {
     c["degenerate_fallbacks"] = t.degenerate;
     c["pixels_umbra_by_ball"] = t.umbra_by_ball;
     c["sweep_edge_beams"] = t.sweep_edge_beams;
+    c["sweep_beams"] = t.sweep_beams;
+    c["sweep_crossings"] = t.sweep_crossings;
+    c["silhouette_edges"] = t.silhouette_edges;
     size_t balls = 0;
     for (const ExactSolid& solid : scene.solids()) balls += solid.balls.size();
     c["inner_balls"] = static_cast<double>(balls);
@@ -696,7 +732,7 @@ void register_exact(MethodRegistry& registry) {
        1 << 20},
       {"leaf_size",
        OptionType::integer,
-       "4",
+       "8",
        "triangles per leaf of the reference's own BVH",
        {},
        1,

@@ -186,9 +186,8 @@ namespace {
 
 /// uncovered_square_area; with `outline`, also the boundary of the covered region inside the
 /// square (OutlineSink) appended there.
-/// `edge_beams` (if given) grows by the edges crossing each beam, summed: the sweep's work.
-double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
-                    uint64_t* edge_beams) {
+/// `work` (if given) grows by this sweep's beams, edge-beams and crossings.
+double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline, SweepWork* work) {
   const double side = kUvScale;
   struct Start {
     double y0;
@@ -317,7 +316,10 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
       continue;
     }
     const double h = yb - ya;
-    if (edge_beams != nullptr) *edge_beams += active.size();
+    if (work != nullptr) {
+      ++work->beams;
+      work->edge_beams += active.size();
+    }
     // Abscissae at both ends: at ya the previous beam's top (an edge that just started enters with
     // xb at its lower end). End points exactly: edges meeting at a vertex then meet in x too, never
     // a false crossing.
@@ -367,6 +369,7 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
       }
       by_top[j] = key;
     }
+    if (work != nullptr) work->crossings += swaps.size();
     marks.clear();
     if (integrate_by_swaps(sweep, active, swaps, pos, co, ya, yb, side, area,
                            outline != nullptr ? &marks : nullptr)) {
@@ -401,18 +404,18 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
 
 }  // namespace
 
-double uncovered_square_area(std::span<const UvEdge> edges, uint64_t* edge_beams) {
-  return sweep_square(edges, nullptr, edge_beams);
+double uncovered_square_area(std::span<const UvEdge> edges, SweepWork* work) {
+  return sweep_square(edges, nullptr, work);
 }
 
 double covered_outline(std::span<const UvEdge> edges, std::vector<UvEdge>& outline,
-                       uint64_t* edge_beams) {
-  return sweep_square(edges, &outline, edge_beams);
+                       SweepWork* work) {
+  return sweep_square(edges, &outline, work);
 }
 
 double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint32_t> group,
-                             uint64_t* edge_beams) {
-  if (edges.size() <= kDivideAboveEdges) return sweep_square(edges, nullptr, edge_beams);
+                             SweepWork* work) {
+  if (edges.size() <= kDivideAboveEdges) return sweep_square(edges, nullptr, work);
   // The groups in the order of their first edge (the caller's order: neighbours in space), each
   // group's edges together; chunks of whole groups with at least kLeafEdges edges each.
   thread_local std::vector<std::pair<uint32_t, uint32_t>> by_group;  // (group, edge)
@@ -445,7 +448,7 @@ double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint
       const size_t end = bounds[std::min(c + 2, bounds.size() - 1)];
       const std::span<const UvEdge> pair(level.data() + bounds[c], end - bounds[c]);
       if (c + 2 < bounds.size()) {
-        if (covered_outline(pair, next, edge_beams) <= 0.0) return 0.0;
+        if (covered_outline(pair, next, work) <= 0.0) return 0.0;
       } else {
         next.insert(next.end(), pair.begin(), pair.end());  // the odd one out
       }
@@ -454,7 +457,7 @@ double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint
     std::swap(level, next);
     std::swap(bounds, next_bounds);
   }
-  return sweep_square(level, nullptr, edge_beams);
+  return sweep_square(level, nullptr, work);
 }
 
 }  // namespace penumbra

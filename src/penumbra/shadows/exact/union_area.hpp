@@ -16,6 +16,15 @@ namespace penumbra {
 struct UvEdge {
   double x0, y0, x1, y1;
 };
+/// The sweeps' work, summed over every sweep of one area (the square's union and, with many
+/// edges, the outlines of its parts): the beams, the edges crossing each beam, and the crossings
+/// of two edges found inside a beam (the swaps of integrate_by_swaps).
+struct SweepWork {
+  uint64_t beams = 0;
+  uint64_t edge_beams = 0;
+  uint64_t crossings = 0;
+};
+
 /// `edges` as UvEdges, appended to `out`.
 void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& out);
 
@@ -32,8 +41,8 @@ void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& o
 /// the others are split at the crossings first. Everything in double: the result is the area of
 /// the edges' winding field to ~1e-16 relative (Clipper's union rounds every intersection point
 /// to the integer grid, ~1e-9 of the light's side).
-/// `edge_beams`, if given, grows by the sweep's work: the edges crossing each beam, summed.
-double uncovered_square_area(std::span<const UvEdge> edges, uint64_t* edge_beams = nullptr);
+/// `work`, if given, grows by the sweep's work (SweepWork).
+double uncovered_square_area(std::span<const UvEdge> edges, SweepWork* work = nullptr);
 
 /// The same area, computed by divide and conquer when there are many edges: `group[i]` labels
 /// edge i, and the edges of each label must form closed chains whose winding number is ≥ 0
@@ -44,7 +53,7 @@ double uncovered_square_area(std::span<const UvEdge> edges, uint64_t* edge_beams
 /// stacked copies of a triangle), this the sum of that over much smaller outlines. Exact like
 /// the single sweep (the outlines' end points are rounded along horizontal lines only).
 double uncovered_square_area(std::span<const UvEdge> edges, std::span<const uint32_t> group,
-                             uint64_t* edge_beams = nullptr);
+                             SweepWork* work = nullptr);
 
 /// Above this many edges the grouped uncovered_square_area divides; chunks start at kLeafEdges.
 inline constexpr size_t kDivideAboveEdges = 384;
@@ -55,6 +64,6 @@ inline constexpr size_t kLeafEdges = 32;
 /// and 0 elsewhere in the square (the square's right side, where a region may end, is left out:
 /// nothing right of it is measured).
 double covered_outline(std::span<const UvEdge> edges, std::vector<UvEdge>& outline,
-                       uint64_t* edge_beams = nullptr);
+                       SweepWork* work = nullptr);
 
 }  // namespace penumbra
