@@ -1,5 +1,6 @@
 #include "penumbra/scene/scene_writer.hpp"
 
+#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
+#include "penumbra/scene/animation_file.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 
 namespace penumbra {
@@ -73,14 +75,20 @@ void write_ply(const fs::path& path, const Mesh& m) {
     std::ofstream f(temporary, std::ios::binary);
     const bool normals = m.normals.size() == m.positions.size();
     const bool uvs = m.uvs.size() == m.positions.size();
+    // Assimp skips a line feed right after end_header even in a binary body, and reads every
+    // record a byte off (a first x of 0.02f is 0A D7 A3 3C): a leading byte property avoids it.
+    const bool guard =
+        !m.positions.empty() && (std::bit_cast<uint32_t>(m.positions[0].x) & 0xffu) == 0x0au;
     f << "ply\nformat binary_little_endian 1.0\ncomment written by penumbra scene\n"
-      << "element vertex " << m.positions.size() << "\nproperty float x\nproperty float y\n"
+      << "element vertex " << m.positions.size() << "\n"
+      << (guard ? "property uchar guard\n" : "") << "property float x\nproperty float y\n"
       << "property float z\n";
     if (normals) f << "property float nx\nproperty float ny\nproperty float nz\n";
     if (uvs) f << "property float s\nproperty float t\n";
     f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n"
       << "end_header\n";
     for (size_t i = 0; i < m.positions.size(); ++i) {
+      if (guard) put(f, uint8_t{1});
       put(f, m.positions[i].x), put(f, m.positions[i].y), put(f, m.positions[i].z);
       if (normals) put(f, m.normals[i].x), put(f, m.normals[i].y), put(f, m.normals[i].z);
       if (uvs) put(f, m.uvs[i].x), put(f, m.uvs[i].y);
@@ -209,6 +217,19 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
     }
     j["lights"].push_back(jl);
   }
+
+  AnimationAssets animation_assets;
+  animation_assets.emission_texture = [&](int texture) { return texture_file(texture, true); };
+  animation_assets.clip_key = [&](int mesh, size_t key, const std::vector<Vec3>& positions) {
+    Mesh frame = scene.meshes[mesh];
+    frame.positions = positions;
+    const std::string name =
+        std::to_string(mesh) + "_" + file_safe(frame.name) + "_key" + std::to_string(key) + ".ply";
+    write_ply(asset_dir() / name, frame);
+    return assets + "/" + name;
+  };
+  if (json animation = animation_json(scene, animation_assets); !animation.is_null())
+    j["animation"] = std::move(animation);
 
   write_text_file(json_path, j.dump(2) + "\n");
 }
