@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
-#include <iostream>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -193,6 +192,38 @@ TEST(Md2Clips, SceneFilesPlayAClipByNameOrIndex) {
   EXPECT_EQ(by_index.animation.meshes[0].clip->positions, clip.positions);
   const std::string e = error_of([&] { load_scene_file(faerie_scene(*md2, "\"fly\"")); });
   EXPECT_NE(e.find("animation.meshes[0].clip: no clip 'fly' ('faerie.md2' has 20 clips: 0 stand, "),
+            std::string::npos)
+      << e;
+}
+
+TEST(GltfMorphClips, AnimatedMorphCubeDeforms) {
+  const std::optional<fs::path> gltf = find_model("AnimatedMorphCube.gltf");
+  if (!gltf) GTEST_SKIP() << "AnimatedMorphCube.gltf absent: run scripts/fetch-models.sh";
+  const std::vector<ClipInfo> clips = list_vertex_clips(*gltf);
+  ASSERT_EQ(clips.size(), 1u);
+  EXPECT_EQ(clips[0].name, "Square");
+  EXPECT_EQ(clips[0].frame_count, 127);
+  const Mesh rest = load_mesh_file(*gltf);
+  const VertexClip clip = load_vertex_clip(*gltf, ClipRef{"", 0, 10.0, 0.5}, Mat4(1.0f));
+  ASSERT_EQ(clip.positions.size(), 127u);
+  for (const std::vector<Vec3>& p : clip.positions) EXPECT_EQ(p.size(), rest.positions.size());
+  EXPECT_EQ(clip.times_s.front(), 0.5);
+  float moved = 0.0f;
+  size_t widest = 0;
+  for (size_t k = 0; k < clip.positions.size(); ++k) {
+    const float d = max_displacement(rest.positions, clip.positions[k]);
+    if (d > moved) moved = d, widest = k;
+  }
+  // Measured: the clip spans the file's 4.2 s, starts at the rest shape, and at its widest (key
+  // 102) moves a vertex by 1.989 (the cube is 2 wide once its node's scale is applied).
+  EXPECT_NEAR(clip.times_s.back(), 4.7, 1e-5);  // float key times in the file
+  EXPECT_EQ(max_displacement(rest.positions, clip.positions[0]), 0.0f);
+  EXPECT_EQ(widest, 102u);
+  EXPECT_NEAR(moved, 1.989f, 1e-3f);
+  const std::string e = error_of([&] {
+    load_vertex_clip(*gltf, ClipRef{"Circle", 0, 10.0, 0.0}, Mat4(1.0f));
+  });
+  EXPECT_NE(e.find("no clip 'Circle' ('AnimatedMorphCube.gltf' has 1 clips: 0 Square)"),
             std::string::npos)
       << e;
 }

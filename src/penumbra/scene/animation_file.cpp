@@ -343,8 +343,7 @@ void put_clip(json& into, const Scene& scene, const MeshAnimation& m,
               const AnimationAssets& assets) {
   const VertexClip& clip = *m.clip;
   const Mesh& mesh = scene.meshes[m.mesh];
-  if (clip.source_fps > 0.0 && !mesh.source_file.empty() &&
-      clip.times_s.front() == scene.animation.start_s) {
+  if (clip.source_fps > 0.0 && !mesh.source_file.empty()) {
     into["clip"] = clip.name;
     into["clip_fps"] = clip.source_fps;
     return;
