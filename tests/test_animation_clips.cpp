@@ -17,6 +17,7 @@
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/scene_file.hpp"
+#include "penumbra/scene/scene_writer.hpp"
 
 namespace penumbra {
 namespace {
@@ -188,6 +189,14 @@ TEST(Md2Clips, SceneFilesPlayAClipByNameOrIndex) {
   // At scale 0.02, between run frames 0 and 2 (t = 0.25 s at 8 fps): measured 0.4211.
   const float moved = max_displacement(a.meshes[1].positions, b.meshes[1].positions);
   EXPECT_NEAR(moved, 0.4211f, 1e-3f);
+  // Written back, the clip is named again (the mesh is a reference to its file).
+  const fs::path written = fs::temp_directory_path() / "penumbra_test_faerie_out" / "again.json";
+  write_scene_file(s, written);
+  const Scene again = load_scene_file(written);
+  ASSERT_EQ(again.animation.meshes.size(), 1u);
+  EXPECT_EQ(again.animation.meshes[0].clip->name, "run");
+  EXPECT_EQ(again.animation.meshes[0].clip->positions, clip.positions);
+  EXPECT_EQ(again.animation.meshes[0].clip->times_s, clip.times_s);
   const Scene by_index = load_scene_file(faerie_scene(*md2, "1"));
   EXPECT_EQ(by_index.animation.meshes[0].clip->positions, clip.positions);
   const std::string e = error_of([&] { load_scene_file(faerie_scene(*md2, "\"fly\"")); });

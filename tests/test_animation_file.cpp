@@ -128,7 +128,7 @@ TEST(AnimationFile, RoundTripsThroughTheWriter) {
 }
 
 TEST(AnimationFile, BuiltinAnimatedScenesRoundTrip) {
-  for (const char* name : {"fence_spin", "flag", "marquee"}) {
+  for (const char* name : {"bunny_orbit", "fence_spin", "flag", "marquee"}) {
     SCOPED_TRACE(name);
     const Scene s = make_builtin_scene(name);
     const fs::path out = temp_dir(name) / (std::string(name) + ".json");
@@ -137,6 +137,28 @@ TEST(AnimationFile, BuiltinAnimatedScenesRoundTrip) {
     EXPECT_EQ(again.animation.frame_count(), s.animation.frame_count());
     expect_same_poses(s, again, {0.0, 0.5, 1.25, 2.0});
   }
+}
+
+TEST(AnimationFile, WriterNamesSharedNamesApart) {
+  // The animation refers to meshes and lights by name: two meshes named alike are written as
+  // "fence" and "fence_2", and the spinning one is still the one that spins.
+  Scene s = make_builtin_scene("fence_spin");
+  s.meshes[0].name = "fence";
+  s.lights.push_back(s.lights[0]);
+  s.lights[1].center.y += 1.0f;
+  LightAnimation l;
+  l.light = 1;
+  l.radiance.keys = {{0.0, Vec3(1.0f)}, {3.0, Vec3(2.0f)}};
+  s.animation.lights.push_back(l);
+  const fs::path out = temp_dir("names") / "names.json";
+  write_scene_file(s, out);
+  const Scene again = load_scene_file(out);
+  EXPECT_EQ(again.meshes[0].name, "fence");
+  EXPECT_EQ(again.meshes[1].name, "fence_2");
+  EXPECT_EQ(again.lights[1].name, "light_2");
+  EXPECT_EQ(again.animation.meshes[0].mesh, 1);
+  EXPECT_EQ(again.animation.lights[0].light, 1);
+  expect_same_poses(s, again, {0.0, 1.0, 2.5});
 }
 
 /// A small scene with `animation` as its animation object, loaded from a temporary file.

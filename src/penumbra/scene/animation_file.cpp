@@ -356,7 +356,7 @@ void put_clip(json& into, const Scene& scene, const MeshAnimation& m,
 
 json light_animation_json(const Scene& scene, const LightAnimation& l,
                           const AnimationAssets& assets) {
-  json j = {{"light", scene.lights[l.light].name}};
+  json j = {{"light", assets.light_names.at(l.light)}};
   put_position_track(j, "center", l.center, scene.origin);
   put_vec3_track(j, "edge_u", l.edge_u);
   put_vec3_track(j, "edge_v", l.edge_v);
@@ -382,7 +382,7 @@ json animation_json(const Scene& scene, const AnimationAssets& assets) {
   json j = {{"start", a.start_s}, {"end", a.end_s}, {"fps", a.fps}};
   if (!a.meshes.empty()) j["meshes"] = json::array();
   for (const MeshAnimation& m : a.meshes) {
-    json jm = {{"mesh", scene.meshes[m.mesh].name}};
+    json jm = {{"mesh", assets.mesh_names.at(m.mesh)}};
     if (m.transform.pivot != Vec3(0.0f) || scene.origin != DVec3(0.0))
       jm["pivot"] = position_json(m.transform.pivot, scene.origin);
     put_vec3_track(jm, "translate", m.transform.translate);

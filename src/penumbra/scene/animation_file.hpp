@@ -6,6 +6,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "penumbra/scene/scene.hpp"
 
@@ -22,10 +23,12 @@ Animation parse_animation(const nlohmann::json& j, const Scene& scene,
                           scene_json::TextureCache& textures, const std::filesystem::path& base,
                           const DVec3& origin);
 
-/// How the writer stores what is not JSON: an emission texture (returns its relative path), a
-/// generated vertex clip's key `key` of mesh `mesh` (writes the mesh with those positions as a
-/// file, returns its relative path).
+/// How the writer names meshes and lights and stores what is not JSON: an emission texture (returns
+/// its relative path), a generated vertex clip's key `key` of mesh `mesh` (writes the mesh with
+/// those positions as a file, returns its relative path).
 struct AnimationAssets {
+  /// The names the meshes and lights are written under (unique), by index.
+  std::vector<std::string> mesh_names, light_names;
   std::function<std::string(int texture)> emission_texture;
   std::function<std::string(int mesh, size_t key, const std::vector<Vec3>& positions)> clip_key;
 };

@@ -120,6 +120,24 @@ void write_texture(const fs::path& path, const Texture& t, bool emission) {
   write_png_rgb8(path, t.width, t.height, rgb);
 }
 
+/// The names meshes or lights are written under: their own, made unique (name_2, name_3, ...)
+/// when the scene is animated, since the animation refers to them by name.
+template <class Item>
+std::vector<std::string> written_names(const std::vector<Item>& items, bool unique) {
+  std::vector<std::string> names;
+  std::set<std::string> used;
+  for (const Item& item : items) {
+    std::string name = item.name;
+    if (unique) {
+      if (name.empty()) name = "unnamed";
+      for (int k = 2; used.count(name); ++k) name = item.name + "_" + std::to_string(k);
+      used.insert(name);
+    }
+    names.push_back(name);
+  }
+  return names;
+}
+
 std::string file_safe(const std::string& name) {
   std::string out;
   for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' ? c : '_';
@@ -177,10 +195,13 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
     j["materials"].push_back(jm);
   }
 
+  const bool animated = !scene.animation.empty();
+  const std::vector<std::string> mesh_names = written_names(scene.meshes, animated);
+  const std::vector<std::string> light_names = written_names(scene.lights, animated);
   j["meshes"] = json::array();
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     const Mesh& m = scene.meshes[i];
-    json jm = {{"name", m.name},
+    json jm = {{"name", mesh_names[i]},
                {"material", material_names.at(m.material)},
                {"casts_shadows", m.casts_shadows},
                {"receives_shadows", m.receives_shadows}};
@@ -199,9 +220,10 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   }
 
   j["lights"] = json::array();
-  for (const Light& l : scene.lights) {
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& l = scene.lights[i];
     json jl = {{"type", std::string(to_string(l.shape))},
-               {"name", l.name},
+               {"name", light_names[i]},
                {"center", position(l.center, origin)},
                {"radiance", vec3(l.radiance)}};
     if (l.shape == LightShape::rect) {
@@ -219,6 +241,8 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   }
 
   AnimationAssets animation_assets;
+  animation_assets.mesh_names = mesh_names;
+  animation_assets.light_names = light_names;
   animation_assets.emission_texture = [&](int texture) { return texture_file(texture, true); };
   animation_assets.clip_key = [&](int mesh, size_t key, const std::vector<Vec3>& positions) {
     Mesh frame = scene.meshes[mesh];
