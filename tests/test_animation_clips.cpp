@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -235,6 +236,33 @@ TEST(GltfMorphClips, AnimatedMorphCubeDeforms) {
   EXPECT_NE(e.find("no clip 'Circle' ('AnimatedMorphCube.gltf' has 1 clips: 0 Square)"),
             std::string::npos)
       << e;
+}
+
+TEST(GltfSkinClips, SimpleSkinBends) {
+  const std::optional<fs::path> gltf = find_model("simple_skin.gltf");
+  if (!gltf) GTEST_SKIP() << "simple_skin.gltf absent: run scripts/fetch-models.sh";
+  const std::vector<ClipInfo> clips = list_vertex_clips(*gltf);
+  ASSERT_EQ(clips.size(), 1u);
+  const Mesh rest = load_mesh_file(*gltf);
+  const VertexClip clip = load_vertex_clip(*gltf, ClipRef{"", 0, 10.0, 0.0}, Mat4(1.0f));
+  float moved = 0.0f;
+  size_t widest = 0;
+  for (size_t k = 0; k < clip.positions.size(); ++k) {
+    ASSERT_EQ(clip.positions[k].size(), rest.positions.size());
+    const float d = max_displacement(clip.positions[0], clip.positions[k]);
+    if (d > moved) moved = d, widest = k;
+  }
+  // 12 rotation keys over 5.5 s turn the upper joint by up to 90° about z (key 2): a top corner,
+  // 1.118 from the joint, moves by the chord √2 · 1.118 = 1.5811.
+  EXPECT_EQ(clips[0].name, "animation0");
+  EXPECT_EQ(clip.positions.size(), 12u);
+  EXPECT_EQ(rest.positions.size(), 10u);
+  EXPECT_NEAR(clip.times_s.back(), 5.5, 1e-6);
+  EXPECT_EQ(widest, 2u);
+  EXPECT_NEAR(moved, std::sqrt(2.5f), 1e-4f);
+  // The skinned pose is the joints' (glTF ignores the skinned mesh's node): this file's inverse
+  // bind matrices put it 0.5 along −x of the unskinned rest mesh load_mesh_file reads.
+  EXPECT_NEAR(max_displacement(rest.positions, clip.positions[0]), 0.5f, 1e-5f);
 }
 
 }  // namespace

@@ -193,7 +193,7 @@ TEST(AnimationFile, BadInputGetsOneLineErrors) {
        "crate, tetra)"},
       {R"({"end": 1, "meshes": [{"mesh": "tetra", "clip": "run"}]})",
        "animation.meshes[0].clip: mesh 'tetra.off' has no vertex animation (clips are read from "
-       "MD2 files and glTF morph targets)"},
+       "MD2 and glTF files)"},
       {R"({"end": 1, "meshes": [{"mesh": "crate", "clip": 0}]})",
        "animation.meshes[0].clip: mesh 'crate' is not read from a file"},
       {R"({"end": 1, "fps": 0})", "animation.fps: must be in (0, 1000]"},

@@ -1,5 +1,6 @@
-// glTF morph-target animation: each animation's weight keys applied to the morph targets of the
-// meshes its channels drive, giving the vertex positions of the merged mesh load_mesh_file reads.
+// glTF animations as vertex clips: at each key time of an animation, its morph-target weights,
+// node transforms and skins (linear blend skinning) applied, giving the vertex positions of the
+// merged mesh load_mesh_file reads.
 #pragma once
 
 #include <filesystem>
@@ -16,8 +17,9 @@ struct MorphClip {
   std::vector<std::vector<Vec3>> positions;  // the merged mesh's positions at each time
 };
 
-/// The file's animations that drive morph targets (others, e.g. node transforms or skins, are
-/// not read), in file order. The positions follow load_mesh_file's vertex order (the same
+/// The file's animations, in file order: positions are the morphed vertices, skinned by their
+/// joints' animated transforms (glTF ignores a skinned mesh's own node) or placed by their node's
+/// animated transform. The positions follow load_mesh_file's vertex order (the same
 /// import); throws Error when the file cannot be read or its vertex count differs from
 /// `rest_vertices`.
 std::vector<MorphClip> read_gltf_morph_clips(const std::filesystem::path& path,

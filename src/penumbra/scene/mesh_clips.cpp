@@ -65,7 +65,7 @@ std::string file_bytes(const std::filesystem::path& path) {
 
 [[noreturn]] void no_clips(const std::filesystem::path& path) {
   throw Error("mesh " + quote(path.filename().string()) +
-              " has no vertex animation (clips are read from MD2 files and glTF morph targets)");
+              " has no vertex animation (clips are read from MD2 and glTF files)");
 }
 
 std::string clip_names(const std::vector<ClipInfo>& clips) {

@@ -1,5 +1,6 @@
 // A mesh file's own animation as a VertexClip: the keyframes of an MD2 model (Quake II vertex
-// animation), grouped into clips by frame name ("run1".."run6" is the clip "run").
+// animation), grouped into clips by frame name ("run1".."run6" is the clip "run"), or a glTF
+// animation (morph targets, skins, node transforms: gltf_morph.hpp).
 #pragma once
 
 #include <filesystem>
