@@ -198,6 +198,19 @@ TEST(Md2Clips, SceneFilesPlayAClipByNameOrIndex) {
   EXPECT_EQ(again.animation.meshes[0].clip->name, "run");
   EXPECT_EQ(again.animation.meshes[0].clip->positions, clip.positions);
   EXPECT_EQ(again.animation.meshes[0].clip->times_s, clip.times_s);
+  // The same frames as a clip generated in code: written as vertex_keys beside a PLY of the mesh
+  // (not the transformed file reference), they load back to the same positions.
+  Scene generated = s;
+  auto copy = std::make_shared<VertexClip>(clip);
+  copy->source_fps = 0.0;
+  generated.animation.meshes[0].clip = copy;
+  const fs::path written_keys =
+      fs::temp_directory_path() / "penumbra_test_faerie_out" / "generated.json";
+  write_scene_file(generated, written_keys);
+  const Scene keys_again = load_scene_file(written_keys);
+  EXPECT_EQ(keys_again.animation.meshes[0].clip->positions, clip.positions);
+  EXPECT_EQ(pose_scene(keys_again, 0.3).meshes[1].positions,
+            pose_scene(generated, 0.3).meshes[1].positions);
   const Scene by_index = load_scene_file(faerie_scene(*md2, "1"));
   EXPECT_EQ(by_index.animation.meshes[0].clip->positions, clip.positions);
   const std::string e = error_of([&] { load_scene_file(faerie_scene(*md2, "\"fly\"")); });

@@ -339,11 +339,9 @@ void put_position_track(json& into, const char* key, const Track<Vec3>& track,
 }
 
 /// The clip by name when it is one of its file's (same frames and timing), else by its keys.
-void put_clip(json& into, const Scene& scene, const MeshAnimation& m,
-              const AnimationAssets& assets) {
+void put_clip(json& into, const MeshAnimation& m, const AnimationAssets& assets) {
   const VertexClip& clip = *m.clip;
-  const Mesh& mesh = scene.meshes[m.mesh];
-  if (clip.source_fps > 0.0 && !mesh.source_file.empty()) {
+  if (clip.source_fps > 0.0 && assets.mesh_written_as_file.at(m.mesh)) {
     into["clip"] = clip.name;
     into["clip_fps"] = clip.source_fps;
     return;
@@ -388,7 +386,7 @@ json animation_json(const Scene& scene, const AnimationAssets& assets) {
     put_vec3_track(jm, "translate", m.transform.translate);
     put_vec3_track(jm, "rotate_deg", m.transform.rotate_deg);
     put_vec3_track(jm, "scale", m.transform.scale);
-    if (m.clip) put_clip(jm, scene, m, assets);
+    if (m.clip) put_clip(jm, m, assets);
     j["meshes"].push_back(std::move(jm));
   }
   if (!a.lights.empty()) j["lights"] = json::array();

@@ -29,6 +29,9 @@ Animation parse_animation(const nlohmann::json& j, const Scene& scene,
 struct AnimationAssets {
   /// The names the meshes and lights are written under (unique), by index.
   std::vector<std::string> mesh_names, light_names;
+  /// Which meshes are written as a reference to their source file (a clip of that file can be
+  /// named); the others are written as PLY files with the identity transform.
+  std::vector<bool> mesh_written_as_file;
   std::function<std::string(int texture)> emission_texture;
   std::function<std::string(int mesh, size_t key, const std::vector<Vec3>& positions)> clip_key;
 };

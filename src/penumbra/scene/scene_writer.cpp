@@ -196,6 +196,12 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   }
 
   const bool animated = !scene.animation.empty();
+  // A clip generated in code is written as vertex_keys, which the loader places by the mesh's
+  // transform: such a mesh is written as its own PLY (transform: the identity), as its keys are.
+  std::vector<bool> generated_clip(scene.meshes.size(), false);
+  for (const MeshAnimation& a : scene.animation.meshes)
+    if (a.clip && !(a.clip->source_fps > 0.0)) generated_clip[a.mesh] = true;
+  std::vector<bool> written_as_file(scene.meshes.size(), false);
   const std::vector<std::string> mesh_names = written_names(scene.meshes, animated);
   const std::vector<std::string> light_names = written_names(scene.lights, animated);
   j["meshes"] = json::array();
@@ -205,7 +211,8 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
                {"material", material_names.at(m.material)},
                {"casts_shadows", m.casts_shadows},
                {"receives_shadows", m.receives_shadows}};
-    if (matches_source(m)) {
+    written_as_file[i] = !generated_clip[i] && matches_source(m);
+    if (written_as_file[i]) {
       jm["file"] = m.source_file;
       if (m.source_transform != Mat4(1.0f) || origin != DVec3(0.0))
         jm["transform"] = {{"matrix", matrix(m.source_transform, origin)}};
@@ -243,6 +250,7 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   AnimationAssets animation_assets;
   animation_assets.mesh_names = mesh_names;
   animation_assets.light_names = light_names;
+  animation_assets.mesh_written_as_file = written_as_file;
   animation_assets.emission_texture = [&](int texture) { return texture_file(texture, true); };
   animation_assets.clip_key = [&](int mesh, size_t key, const std::vector<Vec3>& positions) {
     Mesh frame = scene.meshes[mesh];
