@@ -60,6 +60,13 @@ TEST(BuiltinScenes, ProceduralScenesBuildAndValidate) {
       {"nest", 2 + 20000 * 6},                                  // twigs of 6 triangles
       {"garden", 2 + 400 * 6 + 400 * 256 * 2},                  // stems of 6, leaf cards of 2
       {"herd", 2 + (herd_models_fetched() ? 363738 : 344160)},  // models or stand-ins
+      // The animated scenes' rest poses: the bunny or a make_sphere(64, 128) stand-in; the fence;
+      // ground, pole box and a 48 × 32 cloth; ground, three boxes and a make_sphere(16, 32).
+      {"bunny_orbit",
+       find_model("bunny00.off") ? make_builtin_scene("bunny").triangle_count() : 2 + 128 * 126},
+      {"fence_spin", 2 + 2},
+      {"flag", 2 + 12 + 2 * 48 * 32},
+      {"marquee", 2 + 3 * 12 + 32 * (2 * 14 + 2)},
   };
   size_t built = 0;
   for (const BuiltinSceneInfo& info : builtin_scenes()) {

@@ -60,6 +60,9 @@ struct VertexClip {
   std::string name;
   std::vector<double> times_s;
   std::vector<std::vector<Vec3>> positions;
+  /// For a clip from a mesh file (mesh_clips.hpp): the frame rate it was played at (frame k at
+  /// times_s[0] + k / source_fps), so a scene file can name it again. 0: generated in code.
+  double source_fps = 0.0;
 };
 
 struct MeshAnimation {

@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/scene/animated_scenes.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/model_scene.hpp"
@@ -214,6 +215,28 @@ const std::vector<Entry>& entries() {
         false},
        [] { return make_herd_scene(); },
        herd_origin},
+      {{"bunny_orbit",
+        "animated, 4 s: the square light circles the bunny and grows (a procedural bumpy ball "
+        "when the bunny is not fetched)",
+        false},
+       make_bunny_orbit_scene,
+       [] {
+         return find_model("bunny00.off") ? model_origin("bunny00.off")
+                                          : std::string(
+                                                "procedural bumpy ball (bunny00.off not "
+                                                "fetched: run scripts/fetch-models.sh)");
+       }},
+      {{"fence_spin", "animated, 3 s: the alpha-textured fence turning under the light (60 deg/s)",
+        false},
+       make_fence_spin_scene},
+      {{"flag",
+        "animated, 2 s: a waving cloth (3k triangles, a vertex clip) on a pole, shadowing itself",
+        false},
+       make_flag_scene},
+      {{"marquee",
+        "animated, 2 s: a video-textured light (8 frames of moving stripes at 12 fps) over boxes",
+        false},
+       make_marquee_scene},
       {{"bunny", "Stanford bunny (CGAL data, 75k triangles), the benchmark scene", true},
        [] { return model_scene("bunny", "bunny00.off"); },
        [] { return model_origin("bunny00.off"); }},

@@ -310,6 +310,11 @@ MeshFileCounts validate_ply(std::string_view bytes) {
   if (!have_format) bad("PLY header has no format line");
 
   const std::string_view body = bytes.substr(pos);
+  // Assimp skips a line feed right after end_header even in a binary body, then reads every
+  // record a byte off: garbage positions (a first x of 0.02f begins with that byte).
+  if (format != PlyFormat::ascii && !body.empty() && body[0] == '\n')
+    bad("binary PLY body starts with a line-feed byte, which assimp skips (every record would be "
+        "read a byte off)");
   MeshFileCounts counts;
   const PlyElement* vertex = nullptr;
   for (const PlyElement& e : elements) {

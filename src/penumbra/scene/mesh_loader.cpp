@@ -19,6 +19,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/scene/gltf_header.hpp"
+#include "penumbra/scene/md2_file.hpp"
 #include "penumbra/scene/mesh_header.hpp"
 #include "penumbra/scene/off_reader.hpp"
 
@@ -125,9 +126,9 @@ Mesh merge(const std::filesystem::path& path, const std::vector<MeshInstance>& i
   return out;
 }
 
-/// The whole file, after checking it is a regular file (a FIFO or /dev/zero would be read
-/// forever).
-std::string read_file(const std::filesystem::path& path) {
+}  // namespace
+
+std::string read_mesh_file_bytes(const std::filesystem::path& path) {
   require_regular_file(path, "cannot load mesh");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
@@ -148,6 +149,8 @@ std::string read_file(const std::filesystem::path& path) {
   return text;
 }
 
+namespace {
+
 std::string lowercase_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -156,15 +159,15 @@ std::string lowercase_extension(const std::filesystem::path& path) {
 
 /// The formats Penumbra reads: those it validates before assimp parses them. Assimp's other
 /// importers trust their files (a 232-byte HL1 .mdl makes one allocate 12 GB).
-constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb", ".md2"};
 
 void require_supported_format(const std::filesystem::path& path, const std::string& extension) {
   for (const char* e : kMeshExtensions)
     if (extension == e) return;
-  fail(path, "unsupported format " +
-                 quote(extension.empty() ? path.filename().string() : extension, 40) +
-                 " (Penumbra reads .obj, .ply, .off, .stl, .gltf and .glb; convert others, e.g. "
-                 "with assimp export)");
+  fail(path,
+       "unsupported format " + quote(extension.empty() ? path.filename().string() : extension, 40) +
+           " (Penumbra reads .obj, .ply, .off, .stl, .gltf, .glb and .md2; convert others, e.g. "
+           "with assimp export)");
 }
 
 /// The bytes assimp reads instead of the file (a rewritten document), with its format.
@@ -187,7 +190,8 @@ Mesh load_mesh_file(const std::filesystem::path& path) {
     require_regular_file(path, "cannot load mesh");  // first: a FIFO says so whatever its name
     const std::string extension = lowercase_extension(path);
     require_supported_format(path, extension);
-    const std::string bytes = read_file(path);
+    const std::string bytes = read_mesh_file_bytes(path);
+    if (extension == ".md2") return read_md2(path, bytes).rest;
     if (extension == ".off")
       if (std::optional<Mesh> mesh = read_plain_off(bytes, path.stem().string()))
         return std::move(*mesh);

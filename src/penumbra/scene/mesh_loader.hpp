@@ -16,6 +16,10 @@ namespace penumbra {
 /// validated (mesh_header.hpp), then every file goes through import_mesh_file.
 Mesh load_mesh_file(const std::filesystem::path& path);
 
+/// The whole file, after checking it is a regular file (a FIFO or /dev/zero would be read
+/// forever). Throws Error ("cannot load mesh ...").
+std::string read_mesh_file_bytes(const std::filesystem::path& path);
+
 /// load_mesh_file's assimp import, for a file validated to `counts` (std::nullopt: not counted):
 /// throws Error unless assimp reads that many triangles. Exposed so that tests can compare the
 /// direct OFF reader with it.

@@ -1,5 +1,6 @@
 #include "penumbra/scene/scene_writer.hpp"
 
+#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/files.hpp"
 #include "penumbra/io/image_io.hpp"
+#include "penumbra/scene/animation_file.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 
 namespace penumbra {
@@ -73,14 +75,20 @@ void write_ply(const fs::path& path, const Mesh& m) {
     std::ofstream f(temporary, std::ios::binary);
     const bool normals = m.normals.size() == m.positions.size();
     const bool uvs = m.uvs.size() == m.positions.size();
+    // Assimp skips a line feed right after end_header even in a binary body, and reads every
+    // record a byte off (a first x of 0.02f is 0A D7 A3 3C): a leading byte property avoids it.
+    const bool guard =
+        !m.positions.empty() && (std::bit_cast<uint32_t>(m.positions[0].x) & 0xffu) == 0x0au;
     f << "ply\nformat binary_little_endian 1.0\ncomment written by penumbra scene\n"
-      << "element vertex " << m.positions.size() << "\nproperty float x\nproperty float y\n"
+      << "element vertex " << m.positions.size() << "\n"
+      << (guard ? "property uchar guard\n" : "") << "property float x\nproperty float y\n"
       << "property float z\n";
     if (normals) f << "property float nx\nproperty float ny\nproperty float nz\n";
     if (uvs) f << "property float s\nproperty float t\n";
     f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n"
       << "end_header\n";
     for (size_t i = 0; i < m.positions.size(); ++i) {
+      if (guard) put(f, uint8_t{1});
       put(f, m.positions[i].x), put(f, m.positions[i].y), put(f, m.positions[i].z);
       if (normals) put(f, m.normals[i].x), put(f, m.normals[i].y), put(f, m.normals[i].z);
       if (uvs) put(f, m.uvs[i].x), put(f, m.uvs[i].y);
@@ -110,6 +118,24 @@ void write_texture(const fs::path& path, const Texture& t, bool emission) {
       }
     }
   write_png_rgb8(path, t.width, t.height, rgb);
+}
+
+/// The names meshes or lights are written under: their own, made unique (name_2, name_3, ...)
+/// when the scene is animated, since the animation refers to them by name.
+template <class Item>
+std::vector<std::string> written_names(const std::vector<Item>& items, bool unique) {
+  std::vector<std::string> names;
+  std::set<std::string> used;
+  for (const Item& item : items) {
+    std::string name = item.name;
+    if (unique) {
+      if (name.empty()) name = "unnamed";
+      for (int k = 2; used.count(name); ++k) name = item.name + "_" + std::to_string(k);
+      used.insert(name);
+    }
+    names.push_back(name);
+  }
+  return names;
 }
 
 std::string file_safe(const std::string& name) {
@@ -169,14 +195,24 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
     j["materials"].push_back(jm);
   }
 
+  const bool animated = !scene.animation.empty();
+  // A clip generated in code is written as vertex_keys, which the loader places by the mesh's
+  // transform: such a mesh is written as its own PLY (transform: the identity), as its keys are.
+  std::vector<bool> generated_clip(scene.meshes.size(), false);
+  for (const MeshAnimation& a : scene.animation.meshes)
+    if (a.clip && !(a.clip->source_fps > 0.0)) generated_clip[a.mesh] = true;
+  std::vector<bool> written_as_file(scene.meshes.size(), false);
+  const std::vector<std::string> mesh_names = written_names(scene.meshes, animated);
+  const std::vector<std::string> light_names = written_names(scene.lights, animated);
   j["meshes"] = json::array();
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     const Mesh& m = scene.meshes[i];
-    json jm = {{"name", m.name},
+    json jm = {{"name", mesh_names[i]},
                {"material", material_names.at(m.material)},
                {"casts_shadows", m.casts_shadows},
                {"receives_shadows", m.receives_shadows}};
-    if (matches_source(m)) {
+    written_as_file[i] = !generated_clip[i] && matches_source(m);
+    if (written_as_file[i]) {
       jm["file"] = m.source_file;
       if (m.source_transform != Mat4(1.0f) || origin != DVec3(0.0))
         jm["transform"] = {{"matrix", matrix(m.source_transform, origin)}};
@@ -191,9 +227,10 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
   }
 
   j["lights"] = json::array();
-  for (const Light& l : scene.lights) {
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& l = scene.lights[i];
     json jl = {{"type", std::string(to_string(l.shape))},
-               {"name", l.name},
+               {"name", light_names[i]},
                {"center", position(l.center, origin)},
                {"radiance", vec3(l.radiance)}};
     if (l.shape == LightShape::rect) {
@@ -209,6 +246,22 @@ void write_scene_file(const Scene& scene, const fs::path& json_path) {
     }
     j["lights"].push_back(jl);
   }
+
+  AnimationAssets animation_assets;
+  animation_assets.mesh_names = mesh_names;
+  animation_assets.light_names = light_names;
+  animation_assets.mesh_written_as_file = written_as_file;
+  animation_assets.emission_texture = [&](int texture) { return texture_file(texture, true); };
+  animation_assets.clip_key = [&](int mesh, size_t key, const std::vector<Vec3>& positions) {
+    Mesh frame = scene.meshes[mesh];
+    frame.positions = positions;
+    const std::string name =
+        std::to_string(mesh) + "_" + file_safe(frame.name) + "_key" + std::to_string(key) + ".ply";
+    write_ply(asset_dir() / name, frame);
+    return assets + "/" + name;
+  };
+  if (json animation = animation_json(scene, animation_assets); !animation.is_null())
+    j["animation"] = std::move(animation);
 
   write_text_file(json_path, j.dump(2) + "\n");
 }
