@@ -108,6 +108,35 @@ TEST_P(SampleExact, GearsAndDcsEqualRaytraceOnEveryFrame) {
 
 INSTANTIATE_TEST_SUITE_P(Sequence, SampleExact, ::testing::Values("quad", "bend"));
 
+/// The animated built-in scenes, at four frames spread over each animation (first, a third, two
+/// thirds, last): the cloth waving (and shadowing itself), the fence turning, the video-textured
+/// light, the light circling the bunny (its stand-in without the models).
+class BuiltinSequence : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BuiltinSequence, GearsAndDcsEqualRaytrace) {
+  Scene rest = make_builtin_scene(GetParam());
+  rest.camera.width = rest.camera.height = 48;
+  SequenceRenderer renderer(rest, methods({{"raytrace", {}}, {"gears", {}}, {"dcs", {}}}),
+                            test::grid_samples(8), true);
+  const int last = rest.animation.frame_count() - 1;
+  for (int f : {0, last / 3, 2 * last / 3, last}) {
+    SequenceFrame frame = renderer.render(f);
+    test::TestFrame t;
+    t.scene = std::make_unique<Scene>(*frame.scene);
+    t.frame = std::move(frame.frame);
+    for (size_t m = 1; m < 3; ++m) {
+      SCOPED_TRACE(GetParam() + " frame " + std::to_string(f) + " " + frame.results[m].method);
+      const test::MaskAgreement a = test::compare_masks(t, frame.results[0], frame.results[m]);
+      test::expect_equal_masks(a, 500);
+      EXPECT_EQ(a.differ, 0u);
+      EXPECT_LT(a.mean_abs_dv, 1e-7);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sequence, BuiltinSequence,
+                         ::testing::Values("flag", "fence_spin", "marquee", "bunny_orbit"));
+
 TEST(Sequence, MovingGeometryChangesTheFrames) {
   const Scene rest = animated_quad(true);
   const Scene first = pose_scene(rest, rest.animation.frame_time(0));

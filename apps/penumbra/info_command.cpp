@@ -1,6 +1,7 @@
 // `penumbra info SCENE`: what a scene holds, and whether each mesh is closed 2-manifold.
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "commands.hpp"
 #include "penumbra/core/error.hpp"
@@ -11,6 +12,18 @@
 namespace penumbra::cli {
 
 namespace {
+
+/// One line on the scene's animation (render --frames takes frame indices 0 .. frames − 1).
+void print_animation(const Scene& scene) {
+  const Animation& a = scene.animation;
+  if (a.empty()) return;
+  std::string moves;
+  if (a.moves_geometry()) moves += " geometry (" + std::to_string(a.meshes.size()) + " mesh(es))";
+  if (a.moves_lights()) moves += " lights";
+  if (a.moves_camera()) moves += " camera";
+  std::printf("animation  %.4g s to %.4g s at %.4g fps: frames 0..%d; moves%s\n", a.start_s,
+              a.end_s, a.fps, a.frame_count() - 1, moves.c_str());
+}
 
 /// A name from the scene file, safe for one terminal line (control characters escaped, cut).
 std::string shown(const std::string& name) {
@@ -56,6 +69,7 @@ void run_info(const std::string& name) {
     if (l.is_textured()) std::printf(", textured");
     std::printf(", radiance (%.3g, %.3g, %.3g)\n", l.radiance.x, l.radiance.y, l.radiance.z);
   }
+  print_animation(scene);
 }
 
 }  // namespace

@@ -96,6 +96,10 @@ listing="$("$bin" list)"
 grep -q "raytrace" <<<"$listing" && ok || bad "list lacks raytrace"
 info="$("$bin" info quad)"
 grep -q "closed 2-manifold\|open/non-manifold" <<<"$info" && ok || bad "info lacks topology"
+! grep -q "^animation" <<<"$info" && ok || bad "info shows an animation for a still scene"
+info="$("$bin" info flag)"
+grep -q "^animation  0 s to 2 s at 24 fps: frames 0..48; moves geometry (1 mesh(es))$" <<<"$info" &&
+  ok || bad "info lacks flag's animation: $(grep '^animation' <<<"$info")"
 # Names from the file are escaped: a newline in a mesh name does not start a forged line.
 printf '%s' '{"camera":{"position":[0,2,4],"target":[0,0,0]},"materials":[{"name":"g"}],
  "meshes":[{"name":"a\nmesh      forged","shape":"quad","center":[0,0,0],"edge_u":[0,0,4],"edge_v":[4,0,0],"material":"g"}],
