@@ -6,8 +6,8 @@
 #  - in the visibility view the image shows V exactly, two light positions' screenshots differ
 #    where V changed and only there, and the panel beside the image is drawn;
 #  - the error, signed-error and split views and `set` run; the error against a ray-traced
-#    reference is 0 on the method's own samples; --backend vulkan gives render's GPU frame; bad
-#    input is one line and exit 1.
+#    reference is 0 on the method's own samples; --backend vulkan gives render's GPU frame; an
+#    animated scene at `time T` is render's frame at T; bad input is one line and exit 1.
 # Exits 77 (ctest: skipped) without xvfb-run.
 #   viewer_test.sh PENUMBRA_BINARY VIEWER_PROBE OUTPUT_DIR
 set -uo pipefail
@@ -175,6 +175,52 @@ else
 fi
 
 # 7. Bad input: one line, exit 1.
+# An animated scene at a time: the deforming flag at 0.5 s is frame 12 of `render --frames` (its
+# 24 fps); the saved scene is that still pose.
+cat >anim.txt <<'SCRIPT'
+time 0.5
+wait
+save_visibility anim.exr
+save_scene anim.json
+SCRIPT
+if view anim.log --scene flag --method gears --script anim.txt &&
+  "$bin" render --scene flag --method gears --samples 4 --size 64x64 --frames 12:12 \
+    --out render_anim >render_anim.log 2>&1 &&
+  "$bin" render --scene anim.json --method gears --samples 4 --out render_anim_still \
+    >render_anim_still.log 2>&1; then
+  d="$(max_abs anim.exr render_anim/gears/frame_0012/visibility.exr)"
+  s="$(max_abs anim.exr render_anim_still/visibility.exr)"
+  echo "flag at 0.5 s: max |V_view - V_frame_12| = $d, against its saved still = $s"
+  awk -v d="$d" -v s="$s" 'BEGIN { exit !(d != "" && d <= 1e-6 && s != "" && s <= 1e-6) }' ||
+    fail "flag at 0.5 s: max |dV| = '$d' (frame 12), '$s' (saved still) > 1e-6"
+else
+  fail "the animation script failed: $(cat anim.log render_anim.log render_anim_still.log)"
+fi
+
+# Playback: the time runs while it plays (the frame after about 0.4 s is not the rest pose's), and
+# the frame it settles on when paused is render's of the saved still.
+cat >play.txt <<'SCRIPT'
+play
+sleep 400
+pause
+wait
+save_visibility played.exr
+save_scene played.json
+SCRIPT
+if view play.log --scene flag --method gears --script play.txt &&
+  "$bin" render --scene played.json --method gears --samples 4 --out render_played \
+    >render_played.log 2>&1 &&
+  "$bin" render --scene flag --method gears --samples 4 --size 64x64 --out render_rest \
+    >render_rest.log 2>&1; then
+  d="$(max_abs played.exr render_played/visibility.exr)"
+  m="$(max_abs played.exr render_rest/visibility.exr)"
+  echo "played: max |V_view - V_saved| = $d, against the rest pose = $m"
+  awk -v d="$d" -v m="$m" 'BEGIN { exit !(d != "" && d <= 1e-6 && m != "" && m > 1e-3) }' ||
+    fail "playback: max |dV| = '$d' against its still (> 1e-6) or '$m' against the rest (no motion)"
+else
+  fail "the playback script failed: $(cat play.log render_played.log render_rest.log)"
+fi
+
 expect_error() {  # expect_error PATTERN LOG: exit 1 and one 'penumbra: error:' line matching
   local code="$1" pattern="$2" log="$3"
   if [ "$code" -ne 1 ] || [ "$(wc -l <"$log")" -ne 1 ] || ! grep -q "penumbra: error: .*$pattern" "$log"; then
@@ -190,6 +236,12 @@ expect_error $? "badset.txt':1: method 'gears' has no option 'nonsense'" badset.
 printf 'light 1\n' >badlight.txt
 view badlight.log --scene quad --method gears --script badlight.txt
 expect_error $? "badlight.txt':1: light: the scene's lights are 0 to 0, not 1" badlight.log
+printf 'time 5\n' >badtime.txt
+view badtime.log --scene flag --method gears --script badtime.txt
+expect_error $? "badtime.txt':1: time: the animation runs from 0 to 2 s, not 5" badtime.log
+printf 'time 0.5\n' >stilltime.txt
+view stilltime.log --scene quad --method gears --script stilltime.txt
+expect_error $? "stilltime.txt':1: time: the scene has no animation" stilltime.log
 env -u DISPLAY -u WAYLAND_DISPLAY "$bin" view --scene quad >nodisplay.log 2>&1
 expect_error $? "no display" nodisplay.log
 

@@ -1,5 +1,6 @@
 // The panel at the window's right: method and its options (widgets made from the registry's
-// declarations, checked as --set checks them), light, camera, view, times and counters, files.
+// declarations, checked as --set checks them), light, animation, camera, view, times and
+// counters, files.
 #include <imgui.h>
 
 #include <cmath>
@@ -103,6 +104,7 @@ void Viewer::draw_panel() {
   stats_panel();
   method_panel();
   light_panel();
+  animation_panel();
   view_panel();
   files_panel();
   ImGui::PopItemWidth();
@@ -193,6 +195,27 @@ void Viewer::light_panel() {
       "On the image: drag to orbit, right-drag (or shift-drag) to pan, the wheel to zoom; drag "
       "the light's circle (or ctrl-drag) to move the light.");
   ImGui::PopStyleColor();
+}
+
+void Viewer::animation_panel() {
+  const Animation& a = base_->animation;
+  if (a.empty() || !ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (ImGui::Button(state_.playing ? "pause" : "play")) {
+    state_.playing = !state_.playing;
+    if (!state_.playing) edited();  // settle to the full-resolution frame
+  }
+  ImGui::SameLine();
+  float t = static_cast<float>(state_.time_s);
+  if (ImGui::SliderFloat("time (s)", &t, static_cast<float>(a.start_s), static_cast<float>(a.end_s),
+                         "%.3f")) {
+    state_.time_s = t;
+    state_.playing = false;
+    edited();
+  }
+  const int frame = static_cast<int>(std::lround((state_.time_s - a.start_s) * a.fps));
+  ImGui::Text("frame %d of 0..%d at %.3g fps; moves%s%s%s", frame, a.frame_count() - 1, a.fps,
+              a.moves_geometry() ? " geometry" : "", a.moves_lights() ? " lights" : "",
+              a.moves_camera() ? (state_.camera.moved() ? " (camera: yours)" : " camera") : "");
 }
 
 void Viewer::view_panel() {

@@ -91,14 +91,19 @@ std::shared_ptr<RenderOutput> RenderWorker::run(const RenderJob& job) const {
   out->job = job;
   try {
     const auto scene_start = std::chrono::steady_clock::now();
-    out->scene = std::make_shared<const Scene>(edited_scene(*job.base, job.lights, job.camera));
+    out->scene = std::make_shared<const Scene>(
+        edited_scene(*job.base, job.lights, job.camera, job.time_s, job.camera_moved));
     out->scene_ms = elapsed_ms(scene_start);
     const auto start = std::chrono::steady_clock::now();
-    out->frame = std::make_unique<Frame>(*out->scene, job.samples, job.bvh->of(*job.base));
+    // Moving meshes: this pose's own BVH, and the methods prepared on it (inside their times).
+    const bool moving = job.base->animation.moves_geometry();
+    out->frame = moving ? std::make_unique<Frame>(*out->scene, job.samples)
+                        : std::make_unique<Frame>(*out->scene, job.samples, job.bvh->of(*job.base));
     out->frame_ms = elapsed_ms(start);
     for (size_t m = 0; m < job.methods.size(); ++m)
       out->results.push_back(
-          out->frame->run(*job.methods[m], prepared(job, m), job.options[m], false));
+          moving ? out->frame->run(*job.methods[m], job.options[m], false)
+                 : out->frame->run(*job.methods[m], prepared(job, m), job.options[m], false));
     const auto shade_start = std::chrono::steady_clock::now();
     if (job.shade)
       for (const MethodResult& result : out->results) {

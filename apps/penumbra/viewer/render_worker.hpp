@@ -20,7 +20,8 @@
 namespace penumbra::viewer {
 
 /// The scene's BVH, built by whichever worker needs it first and shared by every frame after: the
-/// viewer's edits change lights and camera, never the meshes.
+/// viewer's edits change lights and camera, never the meshes (a scene whose animation moves its
+/// meshes gets a BVH per frame instead).
 struct SharedBvh {
   std::once_flag once;
   std::shared_ptr<const EmbreeScene> bvh;
@@ -35,7 +36,9 @@ struct RenderJob {
   std::shared_ptr<const Scene> base;
   std::shared_ptr<SharedBvh> bvh;  // of `base`
   std::vector<LightEdit> lights;
-  Camera camera;  // at the job's resolution
+  Camera camera;              // at the job's resolution
+  double time_s = 0.0;        // an animated scene's time (edited_scene)
+  bool camera_moved = false;  // the user's camera rather than an animated one
   LightSampleSpec samples;
   std::vector<const MethodInfo*> methods;  // one, or two for the split view
   std::vector<MethodOptions> options;

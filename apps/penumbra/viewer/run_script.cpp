@@ -1,6 +1,7 @@
 // The script's commands, run by the UI loop between frames: each returns false to be asked again
 // on the next frame (a `wait` for the final frame, a `sleep`), true when it is done.
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
 #include "penumbra/core/error.hpp"
@@ -121,6 +122,28 @@ bool Viewer::run_command(const ScriptCommand& c) {
       picture_dirty_ = true;  // the visibility and error views show the light edited
       return true;
     }
+    case ScriptOp::time: {
+      const Animation& a = base_->animation;
+      const double t = c.numbers[0];
+      if (a.empty()) throw Error("time: the scene has no animation");
+      if (t < a.start_s || t > a.end_s) {
+        char range[64];
+        std::snprintf(range, sizeof range, "%g to %g s", a.start_s, a.end_s);
+        throw Error("time: the animation runs from " + std::string(range) + ", not " + c.words[0]);
+      }
+      state_.time_s = t;
+      state_.playing = false;
+      edited();
+      return true;
+    }
+    case ScriptOp::play:
+    case ScriptOp::pause:
+      if (base_->animation.empty())
+        throw Error(std::string(c.op == ScriptOp::play ? "play" : "pause") +
+                    ": the scene has no animation");
+      state_.playing = c.op == ScriptOp::play;
+      if (!state_.playing) edited();  // settle to the full-resolution frame of this time
+      return true;
     case ScriptOp::quit:
       quit_ = true;
       return true;

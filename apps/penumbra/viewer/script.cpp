@@ -38,6 +38,9 @@ const std::map<std::string, Syntax>& syntax() {
       {"save_scene", {ScriptOp::save_scene, 1, 1, 0, "save_scene PATH.json"}},
       {"save_error", {ScriptOp::save_error, 1, 1, 0, "save_error PATH.json"}},
       {"light", {ScriptOp::light, 1, 1, 1, "light N"}},
+      {"time", {ScriptOp::time, 1, 1, 1, "time SECONDS"}},
+      {"play", {ScriptOp::play, 0, 0, 0, "play"}},
+      {"pause", {ScriptOp::pause, 0, 0, 0, "pause"}},
       {"quit", {ScriptOp::quit, 0, 0, 0, "quit"}},
   };
   return table;

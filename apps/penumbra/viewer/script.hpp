@@ -27,6 +27,9 @@ enum class ScriptOp {
   save_scene,       // save_scene PATH.json
   save_error,       // save_error PATH.json (the error views' numbers against the reference)
   light,            // light N (the light the light_* commands edit, from 0)
+  time,             // time T (an animated scene: the time shown, seconds)
+  play,             // play (an animated scene: the time follows the wall clock)
+  pause,            // pause
   quit,
 };
 

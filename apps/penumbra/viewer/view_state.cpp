@@ -111,13 +111,24 @@ ViewState::ViewState(const Scene& scene, std::string method_name, const LightSam
       width(scene.camera.width),
       height(scene.camera.height) {
   for (const Light& l : scene.lights) lights.push_back({l.center, 1.0f, l.shape, 1.0f});
+  time_s = scene.animation.start_s;
 }
 
-Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera) {
-  Scene scene = base;
-  for (size_t l = 0; l < scene.lights.size() && l < lights.size(); ++l)
-    scene.lights[l] = edited_light(base.lights[l], lights[l]);
-  scene.camera = camera;
+Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera,
+                   double time_s, bool camera_moved) {
+  const bool animated = !base.animation.empty();
+  Scene scene = animated ? pose_scene(base, time_s) : base;
+  for (size_t l = 0; l < scene.lights.size() && l < lights.size(); ++l) {
+    LightEdit edit = lights[l];
+    edit.center += scene.lights[l].center - base.lights[l].center;  // 0 for a still light
+    scene.lights[l] = edited_light(scene.lights[l], edit);
+  }
+  if (animated && base.animation.moves_camera() && !camera_moved) {
+    scene.camera.width = camera.width;
+    scene.camera.height = camera.height;
+  } else {
+    scene.camera = camera;
+  }
   validate_scene(scene);
   return scene;
 }

@@ -28,6 +28,8 @@ class OrbitCamera {
   void zoom(float factor);
   float azimuth_deg() const { return azimuth_deg_; }
   float elevation_deg() const { return elevation_deg_; }
+  /// Whether the user has turned, panned or zoomed it (an animated camera then yields to it).
+  bool moved() const { return moved_; }
 
  private:
   Camera base_;
@@ -57,13 +59,19 @@ struct ViewState {
   OrbitCamera camera;
   LightSampleSpec samples;
   int width = 0, height = 0;  // full resolution
+  /// An animated scene: the time shown (seconds of the scene's animation), and whether it plays.
+  double time_s = 0.0;
+  bool playing = false;
 
   ViewState(const Scene& scene, std::string method_name, const LightSampleSpec& spec);
   void changed() { ++generation; }
 };
 
 /// `base` with `lights` edited and `camera` (validated: throws Error for an edit the scene format
-/// would refuse).
-Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera);
+/// would refuse). An animated `base` is first posed at `time_s` (pose_scene): a light's edited
+/// centre then moves with its animation (the edit is an offset from the rest pose's centre), and
+/// an animated camera is shown unless `camera_moved` (the user's orbit camera wins).
+Scene edited_scene(const Scene& base, const std::vector<LightEdit>& lights, const Camera& camera,
+                   double time_s = 0.0, bool camera_moved = false);
 
 }  // namespace penumbra::viewer

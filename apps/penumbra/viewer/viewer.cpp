@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -100,6 +101,20 @@ void Viewer::edited() {
   latency_.edited(state_.generation);
 }
 
+void Viewer::advance_playback(Clock::time_point now) {
+  const Animation& a = base_->animation;
+  if (!state_.playing || a.empty()) {
+    played_at_ = now;
+    return;
+  }
+  const double span = a.end_s - a.start_s;
+  double t = state_.time_s + ms_between(played_at_, now) / 1000.0;
+  if (t > a.end_s) t = span > 0.0 ? a.start_s + std::fmod(t - a.start_s, span) : a.start_s;
+  played_at_ = now;
+  state_.time_s = t;
+  edited();  // the frames shown while it plays are previews; a pause settles to full resolution
+}
+
 std::string reference_label(const ViewerArgs& args) {
   return report::reference_label(args.reference, args.reference_samples);
 }
@@ -125,6 +140,8 @@ RenderJob Viewer::make_job(bool preview, bool reference) const {
   job.camera = state_.camera.camera();
   job.camera.width = w;
   job.camera.height = h;
+  job.time_s = state_.time_s;
+  job.camera_moved = state_.camera.moved();
   job.samples = state_.samples;
   std::vector<std::string> names{state_.method};
   if (reference) {
@@ -262,11 +279,13 @@ void Viewer::run() {
                since_edit < args_.settle_ms) {
       timeout_s = (args_.settle_ms - since_edit) / 1000.0;
     }
+    if (state_.playing) timeout_s = std::min(timeout_s, 1.0 / 60.0);
     window_.wait_events(std::max(timeout_s, 0.0));
     frame_start = Clock::now();
     collect();
     step_script();
     if (quit_) break;
+    advance_playback(frame_start);
     schedule();
     refresh_picture();
     window_.begin_frame();

@@ -90,6 +90,8 @@ class Viewer {
   /// The method shown is the reference itself (`exact`, with an exact reference): no second run.
   bool method_is_reference() const;
   void edited();
+  /// A playing animation: its time advanced by the wall time since the last call, looping.
+  void advance_playback(Clock::time_point now);
   void refresh_picture();
   // panel.cpp
   void draw_panel();
@@ -98,6 +100,7 @@ class Viewer {
   void option_widgets();
   void light_panel();
   void view_panel();
+  void animation_panel();
   void stats_panel();
   void files_panel();
   bool set_option(const std::string& key, const std::string& text, std::string* error);
@@ -141,6 +144,7 @@ class Viewer {
   size_t script_next_ = 0;
   bool script_waiting_ = false;  // at a `wait`: the state counts as still
   Clock::time_point sleep_until_;
+  Clock::time_point played_at_;  // when advance_playback last moved the time
   std::optional<std::filesystem::path> screenshot_;
   LatencyLog latency_;
   bool quit_ = false;
