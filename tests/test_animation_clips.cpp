@@ -13,12 +13,15 @@
 #include <vector>
 
 #include "penumbra/core/error.hpp"
+#include "penumbra/pipeline/sequence.hpp"
 #include "penumbra/scene/md2_file.hpp"
 #include "penumbra/scene/mesh_clips.hpp"
 #include "penumbra/scene/mesh_loader.hpp"
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/scene_writer.hpp"
+#include "penumbra/shadows/registry.hpp"
+#include "support/frame_helpers.hpp"
 
 namespace penumbra {
 namespace {
@@ -276,6 +279,39 @@ TEST(GltfSkinClips, SimpleSkinBends) {
   // The skinned pose is the joints' (glTF ignores the skinned mesh's node): this file's inverse
   // bind matrices put it 0.5 along −x of the unskinned rest mesh load_mesh_file reads.
   EXPECT_NEAR(max_displacement(rest.positions, clip.positions[0]), 0.5f, 1e-5f);
+}
+
+/// Every method runs on the running faerie (a deforming MD2 clip), frame after frame: visible
+/// fractions in [0, 1] on every surface pixel, and the sample-exact methods equal to raytrace.
+TEST(Md2Clips, EveryMethodRunsOnTheRunningFaerie) {
+  REQUIRE_FAERIE();
+  const Scene rest = load_scene_file(faerie_scene(*md2, "\"run\""));
+  std::vector<SequenceMethod> all;
+  for (const MethodInfo& info : MethodRegistry::builtin().methods())
+    all.push_back({&info, resolve_options(info, {})});
+  SequenceRenderer renderer(rest, all, test::grid_samples(4), false);
+  for (int frame : {0, 2, 4}) {
+    const SequenceFrame f = renderer.render(frame);
+    ASSERT_EQ(f.results.size(), all.size());
+    const MethodResult* raytrace = nullptr;
+    for (const MethodResult& r : f.results)
+      if (r.method == "raytrace") raytrace = &r;
+    ASSERT_NE(raytrace, nullptr);
+    for (const MethodResult& r : f.results) {
+      SCOPED_TRACE(r.method + " frame " + std::to_string(frame));
+      const Image<float>& lit = r.per_light[0].lit;
+      size_t shadowed = 0;
+      for (float v : lit.pixels()) {
+        ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+        shadowed += v < 1.0f;
+      }
+      EXPECT_GT(shadowed, 10u);  // the faerie shadows the floor (measured: 19 to 40 pixels)
+      if (r.method == "gears" || r.method == "dcs") {
+        for (size_t i = 0; i < lit.pixels().size(); ++i)
+          EXPECT_NEAR(lit.pixels()[i], raytrace->per_light[0].lit.pixels()[i], 1e-6f);
+      }
+    }
+  }
 }
 
 }  // namespace

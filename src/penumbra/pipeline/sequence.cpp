@@ -93,6 +93,9 @@ SequenceFrame SequenceRenderer::render(int index) {
   out.time_s = rest_.animation.frame_time(index);
   out.scene = std::make_shared<const Scene>(pose_scene(rest_, out.time_s));
   const bool prepare = prepared_.empty() || moves_geometry_;
+  // The pose the methods were prepared on stays alive until every one of them is prepared on the
+  // new one: a prepare may read what it kept of the old pose (raytrace's BVH update does).
+  std::shared_ptr<const Scene> previous_pose = prepared_scene_;
   if (prepare) prepared_scene_ = out.scene;
   if (moves_geometry_) {
     out.frame = std::make_unique<Frame>(*out.scene, samples_);  // its own BVH, a shared stage

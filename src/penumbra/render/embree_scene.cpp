@@ -63,6 +63,8 @@ void check_device(RTCDevice device, const char* what) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene, BvhUpdate updates) : scene_(&scene) {
+  for (const Mesh& mesh : scene.meshes)
+    topology_.emplace_back(mesh.positions.size(), mesh.triangles.size());
   const auto device_start = std::chrono::steady_clock::now();
   // PENUMBRA_SIMD pins Embree to the same instruction set as Penumbra's own kernels, so the
   // ratios against `raytrace` compare like with like.
@@ -124,13 +126,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, BvhUpdate updates) : scene_(&scene)
 }
 
 bool EmbreeScene::same_topology(const Scene& scene) const {
-  if (scene.meshes.size() != scene_->meshes.size()) return false;
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    const Mesh& a = scene.meshes[m];
-    const Mesh& b = scene_->meshes[m];
-    if (a.positions.size() != b.positions.size() || a.triangles.size() != b.triangles.size())
+  if (scene.meshes.size() != topology_.size()) return false;
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    if (topology_[m] !=
+        std::pair(scene.meshes[m].positions.size(), scene.meshes[m].triangles.size()))
       return false;
-  }
   return true;
 }
 

@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "penumbra/scene/scene.hpp"
@@ -36,7 +37,8 @@ class EmbreeScene {
   /// Wall time of the BVH build (or of the last update()), milliseconds.
   double build_ms() const { return build_ms_; }
   /// Whether `scene` has this BVH's meshes with the same vertex and triangle counts: what
-  /// update() needs.
+  /// update() needs. Compared with the counts recorded at the build (the scene built from may be
+  /// gone by then: an animation's previous pose).
   bool same_topology(const Scene& scene) const;
   /// Moves the vertices to those of `scene` (same topology, same materials: the next frame of an
   /// animation) and commits the scene again, rebuilding or refitting as constructed. `scene`
@@ -56,6 +58,7 @@ class EmbreeScene {
 
  private:
   const Scene* scene_;
+  std::vector<std::pair<size_t, size_t>> topology_;  // per mesh: vertices, triangles
   RTCDevice device_ = nullptr;
   RTCScene rtc_scene_ = nullptr;
   std::vector<int> mesh_of_geom_;
