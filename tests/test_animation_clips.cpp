@@ -21,23 +21,16 @@
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/scene_writer.hpp"
 #include "penumbra/shadows/registry.hpp"
+#include "support/error_of.hpp"
 #include "support/frame_helpers.hpp"
+#include "support/test_support.hpp"
 
 namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
 
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected penumbra::Error";
-  return "";
-}
+using test::error_of;
 
 std::optional<fs::path> faerie() {
   return find_model("faerie.md2");

@@ -12,6 +12,7 @@
 #include "penumbra/scene/builtin_scenes.hpp"
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/scene_writer.hpp"
+#include "support/error_of.hpp"
 #include "support/test_support.hpp"
 
 namespace penumbra {
@@ -23,16 +24,7 @@ std::string animated_json() {
   return test::data_path("animation/animated.json");
 }
 
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected penumbra::Error";
-  return "";
-}
+using test::error_of;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("penumbra_test_animation_file_" + name);

@@ -15,6 +15,7 @@
 #include "penumbra/scene/model_paths.hpp"
 #include "penumbra/scene/scene_file.hpp"
 #include "penumbra/scene/topology.hpp"
+#include "support/error_of.hpp"
 #include "support/test_support.hpp"
 
 namespace penumbra {
@@ -26,17 +27,7 @@ std::string scenes_dir() {
   return test::data_path("scenes");
 }
 
-/// The message of the Error that `fn` throws ("" and a test failure if it throws none).
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected penumbra::Error";
-  return "";
-}
+using test::error_of;
 
 void expect_vec3(const Vec3& got, const Vec3& want, float tol = 1e-6f) {
   EXPECT_NEAR(got.x, want.x, tol);
