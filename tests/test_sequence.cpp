@@ -12,6 +12,7 @@
 #include "penumbra/pipeline/video.hpp"
 #include "penumbra/report/sequence_run.hpp"
 #include "penumbra/scene/builtin_scenes.hpp"
+#include "penumbra/shadows/registry.hpp"
 #include "support/frame_helpers.hpp"
 #include "support/mask_agreement.hpp"
 
@@ -132,6 +133,30 @@ TEST_P(BuiltinSequence, GearsAndDcsEqualRaytrace) {
       test::expect_equal_masks(a, 200);
       EXPECT_LE(a.differ, 2u);
       EXPECT_LT(a.mean_abs_dv, 1e-4);
+    }
+  }
+}
+
+/// Every method of the registry on the waving flag (a deforming mesh that shadows itself), three
+/// frames: visible fractions in [0, 1], and the cloth's shadow on the ground in every method.
+TEST(Sequence, EveryMethodRunsOnTheFlag) {
+  Scene rest = make_builtin_scene("flag");
+  rest.camera.width = rest.camera.height = 32;
+  std::vector<SequenceMethod> all;
+  for (const MethodInfo& info : MethodRegistry::builtin().methods())
+    all.push_back({&info, resolve_options(info, {})});
+  SequenceRenderer renderer(rest, all, test::grid_samples(4), false);
+  for (int frame : {0, 6, 12}) {
+    const SequenceFrame f = renderer.render(frame);
+    ASSERT_EQ(f.results.size(), all.size());
+    for (const MethodResult& r : f.results) {
+      SCOPED_TRACE(r.method + " frame " + std::to_string(frame));
+      size_t shadowed = 0;
+      for (float v : r.per_light[0].lit.pixels()) {
+        ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+        shadowed += v < 1.0f;
+      }
+      EXPECT_GT(shadowed, 50u);
     }
   }
 }
