@@ -126,8 +126,10 @@ TEST(Lifecycle, ExactReportsItsPreparationOnce) {
   const MethodResult r = frame.run(info, resolve_options(info, {}), false);
   EXPECT_GT(r.prepare_ms, 0.0);
   EXPECT_GE(r.total_ms, r.prepare_ms);
-  // Stage "bvh" of the first light holds the preparation; the second light's only its polygon.
-  EXPECT_GE(r.per_light[0].times.get("bvh"), r.prepare_ms);
+  // Stage "bvh" of the first light holds the preparation (timed inside the method, so a few
+  // microseconds short of prepare_ms, timed around the call: 34.515 against 34.528 ms once under
+  // ASan); the second light's only its polygon.
+  EXPECT_GE(r.per_light[0].times.get("bvh"), 0.99 * r.prepare_ms);
   EXPECT_LT(r.per_light[1].times.get("bvh"), r.prepare_ms);
 }
 
