@@ -28,6 +28,7 @@
 #include "bench_fixture.hpp"
 #include "penumbra/gpu/backend.hpp"
 #include "penumbra/gpu/sort.hpp"
+#include "penumbra/pipeline/sequence.hpp"
 #include "penumbra/render/receivers.hpp"
 
 namespace penumbra {
@@ -123,6 +124,71 @@ void raster_args(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.3);
 }
 
+/// The scene classes of the GEARS paper (Bird Nest, Garden): gears and the CPU raytrace only.
+void class_args(benchmark::internal::Benchmark* b) {
+  for (int size : {64, 1024}) b->Args({size, 16});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.3);
+}
+
+/// Dynamic scenes [Wang 2014 Table 10]: frames 0 … frames−1 of an animated built-in posed one after
+/// the other (`render --frames`), each method prepared again on every frame whose geometry moves,
+/// inside its time; the CPU raytrace rebuilds its BVH on those frames. One pass over the frames;
+/// counters: ms per frame of the Vulkan gears, the CPU gears and the CPU raytrace (with their
+/// preparation), and the samples where the two gears' masks differ over every frame.
+void BM_Sequence(benchmark::State& state, const std::string& scene_name) {
+  gpu::Backend* b = backend();
+  if (!b) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  Scene scene = make_builtin_scene(scene_name);
+  scene.camera.width = scene.camera.height = static_cast<int>(state.range(0));
+  const int frames = static_cast<int>(state.range(1));
+  const MethodRegistry& registry = MethodRegistry::builtin();
+  const MethodInfo& cpu_gears = registry.get("gears");
+  const MethodInfo& raytrace = registry.get("raytrace");
+  const MethodInfo vk_gears = b->vulkan_method(cpu_gears);
+  std::vector<SequenceMethod> methods = {{&vk_gears, resolve_options(vk_gears, {})},
+                                         {&cpu_gears, resolve_options(cpu_gears, {})},
+                                         {&raytrace, resolve_options(raytrace, {})}};
+  LightSampleSpec spec;
+  spec.pattern = SamplePattern::grid;
+  spec.k = 16;
+  double ms[3] = {0.0, 0.0, 0.0}, differ = 0.0, active = 0.0;
+  {
+    SequenceRenderer warm_up(scene, methods, spec, false);
+    warm_up.render(0);  // compiles the pipelines; not timed
+  }
+  for (auto _ : state) {
+    SequenceRenderer renderer(scene, methods, spec, true);
+    for (int f = 0; f < frames; ++f) {
+      const SequenceFrame frame = renderer.render(f);
+      for (int m = 0; m < 3; ++m) ms[m] += frame.results[m].total_ms;
+      const Visibility &g = frame.results[0].per_light[0], &c = frame.results[1].per_light[0];
+      const Image<uint8_t>& receivers = frame.frame->receivers(0);
+      for (size_t i = 0; i < receivers.size(); ++i) {
+        if (receivers[i] != kActive) continue;
+        ++active;
+        for (int w = 0; w < c.masks->words_per_pixel(); ++w)
+          differ += std::popcount(c.masks->pixel(i)[w] ^ g.masks->pixel(i)[w]);
+      }
+    }
+  }
+  const double per_frame = static_cast<double>(state.iterations()) * frames;
+  state.counters["vulkan_gears_ms"] = ms[0] / per_frame;
+  state.counters["cpu_gears_ms"] = ms[1] / per_frame;
+  state.counters["raytrace_ms"] = ms[2] / per_frame;
+  state.counters["differ_samples"] = differ;
+  state.counters["active_pixels"] = active;
+  state.counters["moves_geometry"] = scene.animation.moves_geometry() ? 1.0 : 0.0;
+  state.SetLabel(b->context().device_name());
+}
+/// {size, frames}: the lavapipe sizes and the paper's.
+void sequence_args(benchmark::internal::Benchmark* b) {
+  b->Args({64, 2})->Args({1024, 16});
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+}
+
 void BM_RadixSort(benchmark::State& state, gpu::RadixRanking ranking) {
   gpu::Backend* b = backend();
   if (!b) {
@@ -202,6 +268,16 @@ PENUMBRA_GPU_BENCH(shadow_volume, dragon, raster_args);
 PENUMBRA_GPU_BENCH(shadow_map, spheres, raster_args);
 PENUMBRA_GPU_BENCH(pcss, spheres, raster_args);
 PENUMBRA_GPU_BENCH(shadow_volume, spheres, raster_args);
+// The paper's scene classes (seeded, built in).
+PENUMBRA_GPU_BENCH(gears, nest, class_args);
+PENUMBRA_GPU_BENCH(gears, garden, class_args);
+BENCHMARK_CAPTURE(BM_Cpu, raytrace_nest, std::string("raytrace"), std::string("nest"))
+    ->Apply(class_args);
+BENCHMARK_CAPTURE(BM_Cpu, raytrace_garden, std::string("raytrace"), std::string("garden"))
+    ->Apply(class_args);
+BENCHMARK_CAPTURE(BM_Sequence, flag, std::string("flag"))->Apply(sequence_args);
+BENCHMARK_CAPTURE(BM_Sequence, bunny_orbit, std::string("bunny_orbit"))->Apply(sequence_args);
+BENCHMARK_CAPTURE(BM_Sequence, fence_spin, std::string("fence_spin"))->Apply(sequence_args);
 
 }  // namespace
 }  // namespace penumbra

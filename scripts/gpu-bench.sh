@@ -7,13 +7,16 @@
 #      masks for gears and dcs, per-pixel visibility for wedges, wedge_blend, ssm, shadow_map, pcss and
 #      shadow_volume (fails the run past the bounds of docs/gpu.md);
 #   3. time: GPU stage times from timestamp queries and host wall times (Vulkan), stage wall times
-#      (CPU), printed as the GEARS paper's Tables 1, 2 and 5 [Wang 2014 §4.3] and a method × scene
-#      table (every Vulkan method against its CPU twin, the CPU raytrace and the Vulkan gears).
+#      (CPU), printed as the GEARS paper's Tables 1, 2 and 5 [Wang 2014 §4.3], a method × scene
+#      table (every Vulkan method against its CPU twin, the CPU raytrace and the Vulkan gears), the
+#      paper's scene classes (nest, garden) and its Table 10 (the animated built-ins frame by frame,
+#      geometry prepared again per frame).
 #      JSON in <out-dir>/bench.json, the tables in <out-dir>/tables.md.
 #   scripts/gpu-bench.sh [out-dir]
 # PENUMBRA_VK_DEVICE picks the device (index or name substring). PENUMBRA_GPU_BENCH=full runs the
-# paper's sizes (Table 1: 512², 1024², 1280²; Table 2: 1024²; Table 5: 512²), =quick the sizes a
-# CPU Vulkan device manages (128², 256²; 256²; 128²); default: quick on lavapipe, else full.
+# paper's sizes (Table 1: 512², 1024², 1280²; Table 2: 1024²; Table 5: 512²; classes and Table 10:
+# 1024², 16 frames), =quick the sizes a CPU Vulkan device manages (128², 256²; 256²; 128²; 64²,
+# 2 frames); default: quick on lavapipe, else full.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-build/gpu-bench}"
@@ -31,21 +34,27 @@ models="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
 device=$(build/release/penumbra render --scene quad --size 16x16 --method shadow_map --backend vulkan \
   --out "$out/probe" 2>&1 >/dev/null | sed -n 's/^vulkan device: //p')
 mode="${PENUMBRA_GPU_BENCH:-$([[ "$device" == llvmpipe* ]] && echo quick || echo full)}"
-if [ "$mode" = full ]; then t1="512|1024|1280" t2=1024 t5=512 r=1024; else t1="128|256" t2=256 t5=128 r=256; fi
+if [ "$mode" = full ]; then t1="512|1024|1280" t2=1024 t5=512 r=1024 c=1024 q=1024
+else t1="128|256" t2=256 t5=128 r=256 c=64 q=64; fi
 echo "device: $device; mode: $mode; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 filter="^BM_(Cpu|Vulkan)/(gears_($scenes)/($t1|$t2)/16|gears_($scenes)/$t5/(4|8|16|32)"
-filter+="|(dcs|wedges|wedge_blend|ssm|raytrace|shadow_map|pcss|shadow_volume)_($scenes)/$r/16)/|^BM_RadixSort/"
+filter+="|(dcs|wedges|wedge_blend|ssm|raytrace|shadow_map|pcss|shadow_volume)_($scenes)/$r/16"
+filter+="|(gears|raytrace)_(nest|garden)/$c/16)/|^BM_RadixSort/|^BM_Sequence/[a-z_]+/$q/"
 build/release/bench/bench_vulkan --benchmark_filter="$filter" --benchmark_out="$out/bench.json" \
   --benchmark_out_format=json >/dev/null
 
-python3 - "$out" "$t1" "$t2" "$t5" "$r" "$device" "$scenes" <<'PY' | tee "$out/tables.md"
+python3 - "$out" "$t1" "$t2" "$t5" "$r" "$device" "$scenes" "$c" "$q" <<'PY' | tee "$out/tables.md"
 import json, pathlib, re, sys
-out, t1, t2, t5, r, device, scene_list = sys.argv[1:]
-runs, sorts = {}, []
+out, t1, t2, t5, r, device, scene_list, c_size, q_size = sys.argv[1:]
+runs, sorts, sequences = {}, [], []
 for b in json.loads((pathlib.Path(out) / "bench.json").read_text())["benchmarks"]:
     if b["name"].startswith("BM_RadixSort/") and not b.get("error_occurred"):
         sorts.append(b)
-    m = re.match(r"BM_(Cpu|Vulkan)/(\w+?)_(bunny|dragon|spheres)/(\d+)/(\d+)/", b["name"])
+    m = re.match(r"BM_Sequence/(\w+)/(\d+)/(\d+)/", b["name"])
+    if m and not b.get("error_occurred"):
+        sequences.append((m[1], int(m[2]), int(m[3]), b))
+        continue
+    m = re.match(r"BM_(Cpu|Vulkan)/(\w+?)_(bunny|dragon|spheres|nest|garden)/(\d+)/(\d+)/", b["name"])
     if m and not b.get("error_occurred"):
         runs[(m[1], m[2], m[3], int(m[4]), int(m[5]))] = b
 scenes = scene_list.split("|")
@@ -131,6 +140,33 @@ for method in ("gears", "dcs", "wedges", "wedge_blend", "ssm", "shadow_map", "pc
             return f"{a['real_time'] / b['real_time']:.2f}×" if a and b else "–"
         print(f"| {method} | {scene} | {ms(g)} | {ms(c)} | {ratio(c, g)} | {ratio(rt, g)} | "
               f"{ratio(gg, g)} | {check(method, scene, int(r), 16)} |")
+print(f"\nThe GEARS paper's scene classes (gears, {c}², k = 16): ms per frame; vs raytrace = CPU "
+      "raytrace ms / Vulkan gears ms\n")
+print("| scene | Vulkan wall ms | CPU gears ms | CPU raytrace ms | vs raytrace | check |")
+print("|---|---|---|---|---|---|")
+for scene in ("nest", "garden"):
+    g, c, rt = (get("Vulkan", "gears", scene, int(c_size), 16), get("Cpu", "gears", scene, int(c_size), 16),
+                get("Cpu", "raytrace", scene, int(c_size), 16))
+    ratio = f"{rt['real_time'] / g['real_time']:.2f}×" if g and rt else "–"
+    print(f"| {scene} | {ms(g)} | {ms(c)} | {ms(rt)} | {ratio} | {check('gears', scene, int(c_size), 16)} |")
+
+print("\nTable 10 (dynamic scenes, gears, k = 16): ms per frame over frames 0 … n−1, each method "
+      "prepared again on every frame whose geometry moves (inside its time; the CPU raytrace "
+      "rebuilds its BVH there); check: samples where the Vulkan and CPU gears masks differ, all frames\n")
+print("| scene | moves | size | frames | Vulkan gears ms | CPU gears ms | CPU raytrace ms | vs raytrace | check |")
+print("|---|---|---|---|---|---|---|---|---|")
+for name, size, frames, b in sequences:
+    if size != int(q_size):
+        continue
+    frac = b["differ_samples"] / max(1.0, b["active_pixels"] * 256)
+    ok = frac <= 1e-3
+    if not ok:
+        failed.append(f"sequence {name} {size}²: {b['differ_samples']:.0f} samples")
+    moves = "geometry" if b["moves_geometry"] else "light"
+    print(f"| {name} | {moves} | {size}² | {frames} | {b['vulkan_gears_ms']:.1f} | {b['cpu_gears_ms']:.1f} | "
+          f"{b['raytrace_ms']:.1f} | {b['raytrace_ms'] / b['vulkan_gears_ms']:.2f}× | "
+          f"{b['differ_samples']:.0f} samples{'' if ok else ' FAIL'} |")
+
 print("\nRadix sort of the (cell, triangle) pairs alone, 2^20 pairs: GPU ms (timestamps) per block ranking\n")
 print("| ranking | key bits | GPU ms |")
 print("|---|---|---|")

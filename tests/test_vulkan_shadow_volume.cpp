@@ -71,13 +71,12 @@ TEST(VulkanShadowVolume, CountsEqualCpu) {
     compare(backend, make_test_frame(scene, 96, 96, LightSampleSpec{}), scene);
 }
 
-TEST(VulkanShadowVolume, DiskLightCentre) {
+TEST(VulkanShadowVolume, DiskAndSphereLightCentres) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  Scene scene = make_builtin_scene("spheres");
-  scene.lights[0].shape = LightShape::disk;
-  scene.lights[0].radius = 0.4f;
-  scene.lights[0].normal = Vec3(0, -1, 0);
-  compare(backend, make_test_frame(std::move(scene), 64, 64, LightSampleSpec{}), "disk light");
+  compare(backend, make_test_frame(test::round_light_scene(LightShape::disk), 64, 64, {}),
+          "disk light");
+  compare(backend, make_test_frame(test::round_light_scene(LightShape::sphere), 64, 64, {}),
+          "sphere light");
 }
 
 /// The camera inside the occluder's shadow volume, under the quad: its side quads and caps cross
