@@ -1,8 +1,9 @@
 // `dcs` on Vulkan: the same per-sample masks and the same visibility as the CPU dcs (hence as
 // `raytrace`) — quad, spheres, the alpha fence (soft textured shadow volumes, and as opaque),
 // rect, disk, sphere and point lights,
-// an irregular shared pattern, a textured light in RGB, semi-opaque occluders (exact product and
-// the paper's approximation); a clear error for what the GPU path does not cover.
+// an irregular shared pattern, per-pixel patterns, a textured light in RGB, semi-opaque occluders
+// (exact product and the paper's approximation); a clear error for what the GPU path does not
+// cover.
 #include <gtest/gtest.h>
 
 #ifdef PENUMBRA_HAVE_VULKAN
@@ -162,12 +163,39 @@ TEST(VulkanDcs, ReportsGpuStageTimes) {
   EXPECT_GT(r.per_light[0].counters.at("wedges"), 0.0);
 }
 
-TEST(VulkanDcs, UnsupportedConfigurationsAreClearErrors) {
+/// Per-pixel patterns: each pixel's own samples, sorted into its own bands as the CPU's Sampler
+/// sorts them (shared edges, S-triangles and the alpha test read them).
+TEST(VulkanDcs, PerPixelPatterns) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  // Per-pixel sample patterns.
-  const test::TestFrame t =
-      make_test_frame("quad", 16, 16, test::sample_spec(SamplePattern::decorrelated, 4, 5));
-  EXPECT_THROW(test::run_vulkan(backend, t, "dcs"), Error);
+  check_frame(
+      backend,
+      make_test_frame("spheres", 32, 32, test::sample_spec(SamplePattern::decorrelated, 8, 5)),
+      "spheres decorrelated");
+  check_frame(backend,
+              make_test_frame("fence", 32, 32, test::sample_spec(SamplePattern::interleaved, 8, 5)),
+              "fence interleaved");
+  check_frame(backend,
+              make_test_frame(round_light_scene(LightShape::sphere), 24, 24,
+                              test::sample_spec(SamplePattern::decorrelated, 8, 5)),
+              "sphere light decorrelated");
+  // The host's RGB weighting reads each pixel's own sample positions.
+  check_frame(backend,
+              make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 24, 24,
+                              test::sample_spec(SamplePattern::interleaved, 8, 5)),
+              "textured light interleaved");
+}
+
+TEST(VulkanDcs, TooManyCountersIsAClearError) {
+  PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
+  // 1 class × 64² samples × over 2^19 active pixels ≥ 2^31 counters: refused before any device
+  // allocation.
+  const test::TestFrame t = make_test_frame("quad", 1024, 1024, grid_samples(64));
+  try {
+    test::run_vulkan(backend, t, "dcs");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("exceed 2^31"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -70,20 +71,23 @@ struct InitPush {
   VkDeviceAddress centre, counters;
   uint32_t na, n, total;
 };
+// sample_stride, band_stride: 0 for a pattern shared by every pixel, n and k + 1 for per-pixel
+// patterns (each active pixel's own sorted samples and bands, in pixel order).
 struct EdgesPush {
   VkDeviceAddress pix, wedges, edges, faces, bin_begin, bin_entries, samples, band_begin, counters,
       state;
-  uint32_t na, n, k, first, chunk;
+  uint32_t na, n, k, first, chunk, sample_stride, band_stride;
 };
 struct StsvPush {
   VkDeviceAddress pix, tris, sides, bin_begin, bin_entries, texels, samples, band_begin, counters,
       state;
   uint32_t na, n, k, first, chunk;
   float min_inverse_t;
+  uint32_t sample_stride, band_stride;
 };
 struct FinishPush {
   VkDeviceAddress centre, state, counters, attenuation, emit_index, lit, masks, sample_vis;
-  uint32_t na, n, classes, table, paper, words, want_vis;
+  uint32_t na, n, classes, table, paper, words, want_vis, sample_stride;
 };
 static_assert(sizeof(EdgesPush) <= kPushBytes && sizeof(StsvPush) <= kPushBytes &&
               sizeof(FinishPush) <= kPushBytes);
@@ -132,26 +136,58 @@ StsvData stsv_data(const stsv::StsvSet& set) {
 }
 
 /// The light samples sorted into bands of v, as the CPU's Sampler sorts them, as the shaders read
-/// them: (u, v) pairs, emits | LightSamples index, the band starts.
+/// them: (u, v) pairs, emits | LightSamples index, the band starts — one set shared by every
+/// pixel, or one per active pixel (per-pixel patterns), appended in pixel order. `sorted_uv`: the
+/// sorted positions of every set, for a textured light's weighting on the host.
 struct Samples {
-  dcs::SampleSet set;
+  bool per_pixel = false;
   std::vector<float> uv;
   std::vector<uint32_t> emit_index;
   std::vector<int32_t> band_begin;
+  std::vector<Vec2> sorted_uv;
+
+  void append(const dcs::SampleSet& set) {
+    for (size_t s = 0; s < set.uv.size(); ++s) {
+      uv.insert(uv.end(), {set.u[s], set.v[s]});
+      emit_index.push_back((set.emit[s] ? 0x10000u : 0u) | set.index[s]);
+    }
+    band_begin.insert(band_begin.end(), set.band_begin.begin(), set.band_begin.end());
+    sorted_uv.insert(sorted_uv.end(), set.uv.begin(), set.uv.end());
+  }
+  /// The sorted positions of active pixel a's samples.
+  std::span<const Vec2> of_pixel(size_t a, int n) const {
+    return {sorted_uv.data() + (per_pixel ? a * n : 0), static_cast<size_t>(n)};
+  }
 };
-Samples samples_of(const ShadowContext& ctx) {
+Samples samples_of(const ShadowContext& ctx, const std::vector<uint32_t>& active) {
   Samples out;
   const bool round = ctx.light.shape == LightShape::disk || ctx.light.shape == LightShape::sphere;
-  out.set.assign(ctx.samples.shared_samples(), ctx.samples.k(), [&](const Vec2& uv) {
+  auto emits = [&](const Vec2& uv) {
     if (!round) return true;
     const Vec2 d = uv - Vec2(0.5f);
     return glm::dot(d, d) <= 0.25f;  // LightFrame::emits of a round light
-  });
-  for (int s = 0; s < ctx.samples.count(); ++s) {
-    out.uv.insert(out.uv.end(), {out.set.u[s], out.set.v[s]});
-    out.emit_index.push_back((out.set.emit[s] ? 0x10000u : 0u) | out.set.index[s]);
+  };
+  dcs::SampleSet set;
+  if (!ctx.samples.per_pixel()) {
+    set.assign(ctx.samples.shared_samples(), ctx.samples.k(), emits);
+    out.append(set);
+    return out;
   }
-  out.band_begin.assign(out.set.band_begin.begin(), out.set.band_begin.end());
+  // Per-pixel patterns (decorrelated, interleaved): each pixel's samples, sorted as the CPU's
+  // Sampler::shade sorts them for that pixel.
+  const uint64_t bytes = uint64_t{active.size()} * ctx.samples.count() * 12;
+  if (bytes >= (uint64_t{1} << 31))
+    throw Error("dcs on vulkan: per-pixel sample patterns need " + std::to_string(bytes >> 20) +
+                " MiB of samples at this size (at most 2 GiB); lower the resolution or the "
+                "sample count");
+  out.per_pixel = true;
+  std::vector<Vec2> uv(ctx.samples.count());
+  const int width = ctx.gbuffer.width;
+  for (const uint32_t i : active) {
+    ctx.samples.pixel_samples(static_cast<int>(i % width), static_cast<int>(i / width), uv);
+    set.assign(uv, ctx.samples.k(), emits);
+    out.append(set);
+  }
   return out;
 }
 
@@ -278,8 +314,6 @@ class DcsVk final : public ShadowMethod {
     VulkanContext& vk = backend_.context();
     if (!vk.has_float64())
       throw Error("dcs on vulkan needs shaderFloat64, which " + vk.device_name() + " lacks");
-    if (ctx.samples.per_pixel())
-      throw Error("dcs on vulkan: per-pixel sample patterns are not supported (use --backend cpu)");
     const GBuffer& g = ctx.gbuffer;
     const int n = ctx.samples.count();
     Visibility out;
@@ -295,7 +329,7 @@ class DcsVk final : public ShadowMethod {
     for (size_t i = 0; i < g.pixel_count(); ++i)
       if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const Samples samples = samples_of(ctx);
+    const Samples samples = samples_of(ctx, active);
     const Classes classes = classes_of(fr, active, options_.semi_opaque);
     const uint64_t counter_count = uint64_t{classes.count} * n * na;
     if (counter_count >= (uint64_t{1} << 31))
@@ -340,6 +374,8 @@ class DcsVk final : public ShadowMethod {
     if (na > 0) {
       CommandList cl(vk);
       const uint32_t un = static_cast<uint32_t>(n), k = static_cast<uint32_t>(ctx.samples.k());
+      const uint32_t sample_stride = samples.per_pixel ? un : 0u;
+      const uint32_t band_stride = samples.per_pixel ? k + 1u : 0u;
       cl.fill(d.state, 0);
       cl.fill(d.masks, 0);
       cl.dispatch(programs().get(Shader::dcs_init),
@@ -350,12 +386,13 @@ class DcsVk final : public ShadowMethod {
       cl.mark("init");
       const uint32_t chunk = bin_chunk(vk, n);
       for (uint32_t first = 0; first < bins.longest; first += chunk) {
-        cl.dispatch(programs().get(Shader::dcs_edges),
-                    EdgesPush{d.pixels.address(), d.wedges.address(), d.edges.address(),
-                              d.faces.address(), d.bin_begin.address(), d.bin_entries.address(),
-                              d.samples.address(), d.band_begin.address(), d.counters.address(),
-                              d.state.address(), na, un, k, first, chunk},
-                    na);
+        cl.dispatch(
+            programs().get(Shader::dcs_edges),
+            EdgesPush{d.pixels.address(), d.wedges.address(), d.edges.address(), d.faces.address(),
+                      d.bin_begin.address(), d.bin_entries.address(), d.samples.address(),
+                      d.band_begin.address(), d.counters.address(), d.state.address(), na, un, k,
+                      first, chunk, sample_stride, band_stride},
+            na);
         cl.barrier();
       }
       cl.mark("edges");
@@ -364,7 +401,8 @@ class DcsVk final : public ShadowMethod {
                     StsvPush{d.pixels.address(), d.stsv_tris.address(), d.stsv_sides.address(),
                              d.stsv_begin.address(), d.stsv_entries.address(), d.texels.address(),
                              d.samples.address(), d.band_begin.address(), d.counters.address(),
-                             d.state.address(), na, un, k, first, chunk, stsv::kMinInverseT},
+                             d.state.address(), na, un, k, first, chunk, stsv::kMinInverseT,
+                             sample_stride, band_stride},
                     na);
         cl.barrier();
       }
@@ -374,7 +412,7 @@ class DcsVk final : public ShadowMethod {
                              d.attenuation.address(), d.emit_index.address(), d.lit.address(),
                              d.masks.address(), d.sample_vis.address(), na, un, classes.count,
                              classes.table, options_.semi_opaque == DcsSemiOpaque::paper ? 1u : 0u,
-                             words, want_vis ? 1u : 0u},
+                             words, want_vis ? 1u : 0u, sample_stride},
                   na);
       cl.barrier();
       cl.mark("finish");
@@ -383,7 +421,7 @@ class DcsVk final : public ShadowMethod {
     out.times.add("wall_gpu", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
-    read_back(ctx, d, active, samples.set, out);
+    read_back(ctx, d, active, samples, out);
     out.times.add("wall_readback", elapsed_ms(t0));
 
     Counters& c = out.counters;
@@ -404,7 +442,7 @@ class DcsVk final : public ShadowMethod {
   /// V and the masks into `out`; a textured light's RGB weighting (eq. 4.2) from the per-sample
   /// visibility, as the CPU's Sampler::finish does, for the pixels that were not uniform.
   void read_back(const ShadowContext& ctx, const DeviceData& d, const std::vector<uint32_t>& active,
-                 const dcs::SampleSet& ss, Visibility& out) {
+                 const Samples& samples, Visibility& out) {
     VulkanContext& vk = backend_.context();
     const size_t na = active.size();
     const int n = ctx.samples.count();
@@ -435,7 +473,7 @@ class DcsVk final : public ShadowMethod {
       }
       const LightFrame frame = light_frame(ctx.light, ctx.gbuffer.shadow_origin(i));
       const SampleWeights w =
-          accumulate_sample_weights(frame, emission, ctx.light.radiance, ss.uv,
+          accumulate_sample_weights(frame, emission, ctx.light.radiance, samples.of_pixel(a, n),
                                     std::span<const float>(vis.data() + a * n, n));
       (*out.lit_rgb)[i] = w.visible_fraction_rgb();
       out.lit[i] = w.visible_fraction();

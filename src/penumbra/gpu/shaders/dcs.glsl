@@ -189,12 +189,14 @@ bool covers(Region r, vec2 s) {
   return in0 && in1 && h2 < 0.0;
 }
 
-/// dcs_counters.hpp SampleSet::range: the band range [first, last) holding [v_lo, v_hi].
-void band_range(Ints band_begin, int k, double v_lo, double v_hi, out int first, out int last) {
+/// dcs_counters.hpp SampleSet::range: the band range [first, last) holding [v_lo, v_hi], in the
+/// band starts from `base` on (a pixel's own set under a per-pixel pattern).
+void band_range(Ints band_begin, uint base, int k, double v_lo, double v_hi, out int first,
+                out int last) {
   const double m = 1e-5;
   precise const double f0 = (v_lo - m) * double(k), f1 = (v_hi + m) * double(k);
   const int b0 = clamp(int(floor(f0)), 0, k - 1);
   const int b1 = clamp(int(floor(f1)), 0, k - 1);
-  first = band_begin.v[b0];
-  last = band_begin.v[b1 + 1];
+  first = band_begin.v[base + uint(b0)];
+  last = band_begin.v[base + uint(b1 + 1)];
 }

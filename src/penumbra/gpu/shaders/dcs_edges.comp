@@ -20,6 +20,7 @@ layout(push_constant) uniform Push {
   Ints counters;
   Ints state;  // per pixel: any covered edge, Σ |step| of class 0
   uint na, n, k, first, chunk;
+  uint sample_stride, band_stride;  // 0, or n and k + 1: each pixel's own samples
 } pc;
 
 /// multiplicity_for: the edge's weight for receiver p.
@@ -79,10 +80,11 @@ void main() {
     ++covered;
     if (e.layer_class == 0u) abs0 += abs(delta);
     int first, last;
-    band_range(pc.band_begin, int(pc.k), r.v_lo, r.v_hi, first, last);
-    const uint base = e.layer_class * pc.n;
+    band_range(pc.band_begin, a * pc.band_stride, int(pc.k), r.v_lo, r.v_hi, first, last);
+    const uint base = e.layer_class * pc.n, own = a * pc.sample_stride;
     for (int s = first; s < last; ++s)
-      if (covers(r, pc.samples.v[s])) pc.counters.v[(base + uint(s)) * pc.na + a] += delta;
+      if (covers(r, pc.samples.v[own + uint(s)]))
+        pc.counters.v[(base + uint(s)) * pc.na + a] += delta;
   }
   if (covered > 0) {
     pc.state.v[2u * a] = 1;

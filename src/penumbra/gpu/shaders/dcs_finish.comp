@@ -18,6 +18,7 @@ layout(push_constant) uniform Push {
   Uints masks;         // words per pixel
   Floats sample_vis;   // na·n, textured lights only
   uint na, n, classes, table, paper, words, want_vis;
+  uint sample_stride;  // 0, or n: each pixel's own samples
 } pc;
 
 /// Dcs pass_through: the light left after `count` crossings of class j's surfaces.
@@ -30,7 +31,7 @@ float pass_through(float vis, uint j, int count) {
 
 void block_all(uint a) {
   for (uint s = 0u; s < pc.n; ++s) {
-    const uint e = pc.emit_index.v[s];
+    const uint e = pc.emit_index.v[a * pc.sample_stride + s];
     if ((e & 0x10000u) != 0u) {
       const uint idx = e & 0xffffu;
       pc.masks.v[a * pc.words + (idx >> 5)] |= 1u << (idx & 31u);
@@ -59,7 +60,7 @@ void main() {
     float vis = pc.counters.v[s * pc.na + a] > 0 ? 0.0 : 1.0;
     for (uint j = 1u; j < pc.classes; ++j)
       vis = pass_through(vis, j, pc.counters.v[(j * pc.n + s) * pc.na + a]);
-    const uint e = pc.emit_index.v[s];
+    const uint e = pc.emit_index.v[a * pc.sample_stride + s];
     const bool emits = (e & 0x10000u) != 0u;
     if (emits && vis == 0.0) {
       const uint idx = e & 0xffffu;

@@ -34,6 +34,7 @@ layout(push_constant) uniform Push {
   Ints state;
   uint na, n, k, first, chunk;
   float min_inverse_t;  // stsv_lookup.hpp kMinInverseT
+  uint sample_stride, band_stride;  // 0, or n and k + 1: each pixel's own samples
 } pc;
 
 bool side_contains(uint w, dvec3 p) {
@@ -118,13 +119,13 @@ void main() {
     }
     any_pair = true;
     int first, last;
-    band_range(pc.band_begin, int(pc.k), v_lo, v_hi, first, last);
+    band_range(pc.band_begin, a * pc.band_stride, int(pc.k), v_lo, v_hi, first, last);
     const vec2 uv0 = pc.tris.v[t].uv[0], uv1 = pc.tris.v[t].uv[1], uv2 = pc.tris.v[t].uv[2];
     const uint offset = pc.tris.v[t].texel_offset;
     const int width = pc.tris.v[t].width, height = pc.tris.v[t].height;
     const uint base = pc.tris.v[t].layer_class * pc.n;
     for (int s = first; s < last; ++s) {
-      const vec2 su = pc.samples.v[s];
+      const vec2 su = pc.samples.v[a * pc.sample_stride + uint(s)];
       precise const float hx = ja.x * su.x + jb.x * su.y + jc.x;
       precise const float hy = ja.y * su.x + jb.y * su.y + jc.y;
       precise const float hz = ja.z * su.x + jb.z * su.y + jc.z;
