@@ -1,10 +1,10 @@
 // `silhouette_map` on Vulkan [Valient 2005 §2]: the depth map by the Vulkan depth pass
 // (gpu/depth_pass.hpp, exact vs the CPU), its nearest depth by depth_min.comp (soft mode's band);
-// on the host the TAM (build_tam), the silhouette test (eq. 1), the §2.1.1 correction and the
-// eq. 2 scaling per face — linear in the faces — and the binning of the scaled covers to 16×16
-// tiles; on the GPU the silhouette pass (silmap_layer.comp: per texel the faces of its tile in
-// face order, so the LESSEQUAL merge sees the CPU's order) and the final lookup of eq. 4
-// (silmap_lookup.comp). Both shaders compute in double as the CPU does.
+// on the host the TAM (build_tam, once per scene in prepare()), the silhouette test (eq. 1), the
+// §2.1.1 correction and the eq. 2 scaling per face — linear in the faces — and the binning of the
+// scaled covers to 16×16 tiles; on the GPU the silhouette pass (silmap_layer.comp: per texel the
+// faces of its tile in face order, so the LESSEQUAL merge sees the CPU's order) and the final
+// lookup of eq. 4 (silmap_lookup.comp). Both shaders compute in double as the CPU does.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -154,6 +154,13 @@ class SilhouetteMapVk final : public ShadowMethod {
         offset_(o.get_real("offset")),
         max_band_(o.get_real("max_band")) {}
 
+  /// The TAM depends on the meshes alone: built once per scene (the CPU method rebuilds it in
+  /// every compute()).
+  void prepare(const Scene& scene) override {
+    tam_ = silmap::build_tam(scene);
+    prepared_ = true;
+  }
+
   Visibility compute(const ShadowContext& ctx) override {
     VulkanContext& vk = backend_.context();
     const GBuffer& g = ctx.gbuffer;
@@ -207,7 +214,7 @@ class SilhouetteMapVk final : public ShadowMethod {
     }
     vis.times.add("wall_depth_map", elapsed_ms(t0));
 
-    // 2. Host: band, TAM, silhouette faces, tile bins, table.
+    // 2. Host: band, silhouette faces, tile bins, table.
     t0 = std::chrono::steady_clock::now();
     const Projection& proj = map.view.proj;
     double half_band = 0.0, max_width = 0.0;
@@ -215,7 +222,8 @@ class SilhouetteMapVk final : public ShadowMethod {
         radius > 0.0 && min_depth < kInfinity ? silmap::receivers_zmax(ctx, proj) : 0.0;
     silmap::silhouette_band(width_, max_band_, radius, min_depth, zmax, map.view.texel_tan,
                             half_band, max_width);
-    const std::vector<silmap::TamFace> tam = silmap::build_tam(ctx.scene);
+    if (!prepared_) tam_ = silmap::build_tam(ctx.scene);  // compute() without prepare()
+    const std::vector<silmap::TamFace>& tam = tam_;
     silmap::SilhouetteLayer counts;
     const std::vector<silmap::SilFace> faces =
         silmap::silhouette_faces(tam, proj, static_cast<int>(res), half_band, counts);
@@ -323,6 +331,8 @@ class SilhouetteMapVk final : public ShadowMethod {
   DepthMapSettings map_;
   bool soft_;
   double width_, aa_, offset_, max_band_;
+  std::vector<silmap::TamFace> tam_;
+  bool prepared_ = false;
 };
 
 }  // namespace
