@@ -74,8 +74,9 @@ int clamp_int(double v, int res) {
 
 /// The GPU form of one face: rasterize_triangle_spans' setup of the scaled cover (orientation,
 /// edge bases, top-left ownership, texel box) and silhouette_spans' per-edge directions, computed
-/// here with the CPU's expressions. False when the rasterizer would draw nothing (zero area).
-bool to_gpu(const silmap::SilFace& f, int res, FaceGpu& g) {
+/// here with the CPU's expressions. False when no texel can take the face (zero area, or no texel
+/// both in the cover and near a silhouette edge).
+bool to_gpu(const silmap::SilFace& f, int res, double span_radius, FaceGpu& g) {
   const DVec3 &a0 = f.scaled[0], &b0 = f.scaled[1], &c0 = f.scaled[2];
   const double area = (b0.x - a0.x) * (c0.y - a0.y) - (b0.y - a0.y) * (c0.x - a0.x);
   if (!(area != 0.0) || !std::isfinite(area)) return false;
@@ -107,6 +108,22 @@ bool to_gpu(const silmap::SilFace& f, int res, FaceGpu& g) {
     if (len >= 1e-12) g.ux[c] = ex / len, g.uy[c] = ey / len;
   }
   g.mask = static_cast<uint32_t>(f.mask);
+  // Every texel in a span has its centre within radius·√2 of its edge's endpoints' box: the box
+  // the shader tests first, and the binning's, is the cover's cut to that.
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (int c = 0; c < 3; ++c) {
+    if (!(f.mask & (1 << c))) continue;
+    for (const DVec3* p : {&f.s[c], &f.s[(c + 1) % 3]}) {
+      xmin = std::min(xmin, p->x), xmax = std::max(xmax, p->x);
+      ymin = std::min(ymin, p->y), ymax = std::max(ymax, p->y);
+    }
+  }
+  const double m = 1.5 * span_radius + 2.0;
+  g.x_lo = std::max(g.x_lo, clamp_int(std::floor(xmin - m), res));
+  g.x_hi = std::min(g.x_hi, clamp_int(std::ceil(xmax + m), res));
+  g.y_lo = std::max(g.y_lo, clamp_int(std::floor(ymin - m), res));
+  g.y_hi = std::min(g.y_hi, clamp_int(std::ceil(ymax + m), res));
+  if (g.y_lo > g.y_hi || g.x_lo > g.x_hi) return false;
   const DVec3 &s0 = f.s[0], &s1 = f.s[1], &s2 = f.s[2];
   g.orient = (s1.x - s0.x) * (s2.y - s0.y) - (s1.y - s0.y) * (s2.x - s0.x) >= 0.0 ? 1u : 0u;
   return true;
@@ -234,7 +251,7 @@ class SilhouetteMapVk final : public ShadowMethod {
     gpu_faces.reserve(faces.size());
     for (const silmap::SilFace& f : faces) {
       FaceGpu gf;
-      if (!to_gpu(f, static_cast<int>(res), gf)) continue;
+      if (!to_gpu(f, static_cast<int>(res), span_radius, gf)) continue;
       bin_face(gf, static_cast<uint32_t>(gpu_faces.size()), span_radius, tiles_x, bins);
       gpu_faces.push_back(gf);
     }

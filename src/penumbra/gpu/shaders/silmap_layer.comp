@@ -18,7 +18,7 @@ struct Face {
   double side[3];              // sign of the face's side of each edge line
   double ux[3], uy[3], len[3];  // silhouette edges: unit direction and length (host's hypot)
   double bx[3], by[3], ex[3], ey[3], sgn[3];  // the scaled cover's oriented edge functions
-  int x_lo, x_hi, y_lo, y_hi;  // the cover's texel box
+  int x_lo, x_hi, y_lo, y_hi;  // the cover's texel box cut to its silhouette edges' reach
   uint mask;    // bit c: edge c → c+1 is a silhouette
   uint owns;    // bit i: edge i owns the centres on it (top-left rule)
   uint orient;  // 1: edge_fn(s0, s1, s2) ≥ 0
