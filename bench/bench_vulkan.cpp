@@ -262,6 +262,8 @@ PENUMBRA_GPU_BENCH(shadow_map, bunny, raster_args);
 PENUMBRA_GPU_BENCH(shadow_map, dragon, raster_args);
 PENUMBRA_GPU_BENCH(pcss, bunny, raster_args);
 PENUMBRA_GPU_BENCH(pcss, dragon, raster_args);
+PENUMBRA_GPU_BENCH(silhouette_map, bunny, raster_args);
+PENUMBRA_GPU_BENCH(silhouette_map, dragon, raster_args);
 PENUMBRA_GPU_BENCH(shadow_volume, bunny, raster_args);
 PENUMBRA_GPU_BENCH(shadow_volume, dragon, raster_args);
 // Built in: the benchmark of a machine without the models.

@@ -4,8 +4,8 @@
 #   1. build the release CLI, the Vulkan tests and bench/bench_vulkan;
 #   2. check: the Vulkan tests (masks, maps and counts against the CPU methods on the test scenes),
 #      then on every benchmarked frame the Vulkan result against the CPU method's: per-sample
-#      masks for gears and dcs, per-pixel visibility for wedges, wedge_blend, ssm, shadow_map, pcss and
-#      shadow_volume (fails the run past the bounds of docs/gpu.md);
+#      masks for gears and dcs, per-pixel visibility for wedges, wedge_blend, ssm, shadow_map, pcss,
+#      silhouette_map and shadow_volume (fails the run past the bounds of docs/gpu.md);
 #   3. time: GPU stage times from timestamp queries and host wall times (Vulkan), stage wall times
 #      (CPU), printed as the GEARS paper's Tables 1, 2 and 5 [Wang 2014 §4.3], a method × scene
 #      table (every Vulkan method against its CPU twin, the CPU raytrace and the Vulkan gears), the
@@ -24,8 +24,8 @@ mkdir -p "$out"
 if ! command -v glslc >/dev/null || [ ! -f /usr/include/vulkan/vulkan.h ]; then scripts/setup.sh; fi
 scripts/build.sh release --target penumbra_cli bench_vulkan test_vulkan_compute \
   test_vulkan_depth_maps test_vulkan_gears test_vulkan_dcs test_vulkan_wedges test_vulkan_ssm \
-  test_vulkan_shadow_volume
-for t in compute depth_maps gears dcs wedges ssm shadow_volume; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
+  test_vulkan_shadow_volume test_vulkan_silhouette_map
+for t in compute depth_maps gears dcs wedges ssm shadow_volume silhouette_map; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
 # bunny and dragon (scripts/fetch-models.sh); without them (an offline machine) the built-in spheres.
 scenes="bunny|dragon"
 models="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
@@ -38,7 +38,7 @@ if [ "$mode" = full ]; then t1="512|1024|1280" t2=1024 t5=512 r=1024 c=1024 q=10
 else t1="128|256" t2=256 t5=128 r=256 c=64 q=64; fi
 echo "device: $device; mode: $mode; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 filter="^BM_(Cpu|Vulkan)/(gears_($scenes)/($t1|$t2)/16|gears_($scenes)/$t5/(4|8|16|32)"
-filter+="|(dcs|wedges|wedge_blend|ssm|raytrace|shadow_map|pcss|shadow_volume)_($scenes)/$r/16"
+filter+="|(dcs|wedges|wedge_blend|ssm|raytrace|shadow_map|pcss|shadow_volume|silhouette_map)_($scenes)/$r/16"
 filter+="|(gears|raytrace)_(nest|garden)/$c/16)/|^BM_RadixSort/|^BM_Sequence/[a-z_]+/$q/"
 build/release/bench/bench_vulkan --benchmark_filter="$filter" --benchmark_out="$out/bench.json" \
   --benchmark_out_format=json >/dev/null
@@ -73,7 +73,8 @@ def check(method, scene, size, k):
         text = f"{g['differ_samples']:.0f} samples"
     else:
         frac = g["differ_pixels"] / max(1.0, g["active_pixels"])
-        ok = frac <= (1e-3 if method in ("shadow_volume", "ssm", "wedges", "wedge_blend") else 5e-3)
+        ok = frac <= (1e-3 if method in ("shadow_volume", "ssm", "wedges", "wedge_blend",
+                                         "silhouette_map") else 5e-3)
         text = f"{g['differ_pixels']:.0f} px"
     if not ok:
         failed.append(f"{method} {scene} {size}² k={k}: {text}")
@@ -120,7 +121,7 @@ for scene in scenes:
 print(f"\nRaster methods ({r}²): ms per frame, Vulkan GPU stages from timestamps\n")
 print("| method | scene | Vulkan wall ms | GPU stages (ms) | CPU ms | check |")
 print("|---|---|---|---|---|---|")
-for method in ("shadow_map", "pcss", "shadow_volume"):
+for method in ("shadow_map", "pcss", "silhouette_map", "shadow_volume"):
     for scene in scenes:
         g, c = get("Vulkan", method, scene, int(r), 16), get("Cpu", method, scene, int(r), 16)
         stages = ", ".join(f"{k[4:]} {v:.2f}" for k, v in sorted(g.items())
@@ -132,7 +133,7 @@ print(f"\nEvery Vulkan method ({r}², k = 16): ms per frame; vs raytrace = CPU r
 print("| method | scene | Vulkan wall ms | CPU ms | CPU / Vulkan | vs raytrace | vs gears | check |")
 print("|---|---|---|---|---|---|---|---|")
 for method in ("gears", "dcs", "wedges", "wedge_blend", "ssm", "shadow_map", "pcss",
-               "shadow_volume"):
+               "silhouette_map", "shadow_volume"):
     for scene in scenes:
         g, c = get("Vulkan", method, scene, int(r), 16), get("Cpu", method, scene, int(r), 16)
         rt, gg = get("Cpu", "raytrace", scene, int(r), 16), get("Vulkan", "gears", scene, int(r), 16)

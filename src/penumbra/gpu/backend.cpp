@@ -37,8 +37,9 @@ const GraphicsPipeline& Backend::volume_pipeline() {
 }
 
 const std::vector<std::string>& Backend::methods() {
-  static const std::vector<std::string> names = {"gears",         "dcs",    "shadow_map",  "pcss",
-                                                 "shadow_volume", "wedges", "wedge_blend", "ssm"};
+  static const std::vector<std::string> names = {"gears",       "dcs",           "shadow_map",
+                                                 "pcss",        "shadow_volume", "wedges",
+                                                 "wedge_blend", "ssm",           "silhouette_map"};
   return names;
 }
 
@@ -59,6 +60,8 @@ MethodInfo Backend::vulkan_method(const MethodInfo& info) {
     out.create = [this](const MethodOptions& o) { return create_wedge_blend_vk(*this, o); };
   } else if (info.name == "ssm") {
     out.create = [this](const MethodOptions& o) { return create_ssm_vk(*this, o); };
+  } else if (info.name == "silhouette_map") {
+    out.create = [this](const MethodOptions& o) { return create_silhouette_map_vk(*this, o); };
   } else if (info.name == "shadow_map") {
     out.create = [this](const MethodOptions& o) { return create_shadow_map_vk(*this, o); };
   } else if (info.name == "pcss") {

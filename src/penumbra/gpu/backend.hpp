@@ -1,7 +1,7 @@
 // The Vulkan backend: one device and its pipelines per process, and the methods that have a
-// Vulkan path (gears, dcs, shadow_map, pcss, shadow_volume, wedges, wedge_blend, ssm). A GPU method
-// is the CPU method's MethodInfo with create() bound to the device, so Frame::run, the comparisons
-// and every metric use it unchanged.
+// Vulkan path (gears, dcs, shadow_map, pcss, shadow_volume, wedges, wedge_blend, ssm,
+// silhouette_map). A GPU method is the CPU method's MethodInfo with create() bound to the device,
+// so Frame::run, the comparisons and every metric use it unchanged.
 #pragma once
 
 #include <memory>
@@ -54,6 +54,8 @@ std::unique_ptr<ShadowMethod> create_dcs_vk(Backend& backend, const MethodOption
 std::unique_ptr<ShadowMethod> create_wedges_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_wedge_blend_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_ssm_vk(Backend& backend, const MethodOptions& options);
+std::unique_ptr<ShadowMethod> create_silhouette_map_vk(Backend& backend,
+                                                       const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_shadow_map_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_pcss_vk(Backend& backend, const MethodOptions& options);
 std::unique_ptr<ShadowMethod> create_shadow_volume_vk(Backend& backend,

@@ -101,6 +101,12 @@ const uint32_t kWedgeBlendPass2[] = {
 const uint32_t kSsmBlend[] = {
 #include "ssm_blend.comp.inc"
 };
+const uint32_t kSilmapLayer[] = {
+#include "silmap_layer.comp.inc"
+};
+const uint32_t kSilmapLookup[] = {
+#include "silmap_lookup.comp.inc"
+};
 
 }  // namespace
 
@@ -170,6 +176,10 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kDepthRaster;
     case Shader::wedge_blend_pass2:
       return kWedgeBlendPass2;
+    case Shader::silmap_layer:
+      return kSilmapLayer;
+    case Shader::silmap_lookup:
+      return kSilmapLookup;
     case Shader::count_:
       break;
   }

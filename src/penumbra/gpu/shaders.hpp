@@ -42,6 +42,8 @@ enum class Shader {
   ssm_blend,
   wedges_pass2,
   wedge_blend_pass2,
+  silmap_layer,
+  silmap_lookup,
   count_
 };
 

@@ -33,20 +33,6 @@ namespace {
 
 constexpr double kDiagonal = 1.4142135623730951;  // one texel's diagonal, texels
 constexpr int kBand = 16;
-constexpr int kQuarter = 256;  // table entries per quarter of eq. 4's coordinate
-constexpr int kSoftRows = 64;  // rows of the soft table (§2.2.1)
-
-struct SilFace {
-  DVec3 s[3];       // projected face (x, y texels; z = 1/w): the TAM's three position fields
-  DVec3 scaled[3];  // scaled about the incenter (eq. 2): the rasterized cover
-  int mask = 0;     // bit c: edge c → c+1 is a silhouette (eq. 1)
-  // Sign of the face's side of each edge line (±1). The paper signs the distance by "inside the
-  // triangle"; faces next to a silhouette are seen at grazing angles and project to slivers, so a
-  // texel just inside the occluder is usually outside both of them. We sign by the half-plane of
-  // the edge that holds the face (the projected opposite vertex; after the §2.1.1 correction if
-  // the projection was collinear), which is the triangle test wherever the triangle is.
-  double side[3] = {1.0, 1.0, 1.0};
-};
 
 double edge_fn(const DVec3& a, const DVec3& b, double x, double y) {
   return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
@@ -60,68 +46,6 @@ double disk_profile(double d, double width) {
   const double x = std::clamp(d / (0.5 * width), -1.0, 1.0);
   return (std::acos(x) - x * std::sqrt(std::max(0.0, 1.0 - x * x))) / kPi;
 }
-
-/// The lookup table of eq. 4 [§2.2], 1D (rows = 1) or 2D (soft, §2.2.1). The coordinate
-/// coord = ¼(d_E + [z_O < z]) + ½[z_E < z], d_E ∈ [0, 1) the normalised edge distance, falls in
-/// one of four quarters: lit, shadowed (map says so, edge behind), and twice the edge gradient.
-class GradientTable {
- public:
-  GradientTable(int rows, double half_band, double row_width_max, double aa_width, double offset)
-      : rows_(rows), half_band_(half_band), row_width_max_(row_width_max) {
-    values_.assign(static_cast<size_t>(rows) * 4 * (kQuarter + 1), 0.0f);
-    for (int r = 0; r < rows; ++r) {
-      // Hard table: a linear ramp aa_width texels wide. Soft rows: disk profile of the row's width.
-      const double width = rows == 1 ? 0.0 : row_width_max * r / (rows - 1);
-      for (int k = 0; k < 4; ++k)
-        for (int m = 0; m <= kQuarter; ++m) {
-          const double d = -half_band + 2.0 * half_band * m / kQuarter + offset;
-          double v = k == 0 ? 1.0 : 0.0;
-          if (k >= 2) {
-            if (rows == 1)
-              v = aa_width > 0.0 ? std::clamp(0.5 - d / aa_width, 0.0, 1.0) : (d > 0 ? 0.0 : 1.0);
-            else
-              v = disk_profile(d, std::max(width, aa_width));
-            // The boundary window (§2.2's offset between the silhouette boundary and the depth
-            // map's): the depth test at the nearest texel centre can disagree with the point only
-            // within half a texel diagonal (+ half the ramp or penumbra) of the edge. Beyond it
-            // the depth map decides, so an edge of another, nearer occluder (overlapping
-            // silhouettes, the "touched silhouettes" of §2.2.1) cannot light an occluded texel.
-            const double window = 0.5 * kDiagonal + 0.5 * std::max(width, aa_width) + 0.25;
-            if (k == 2 && d > window) v = 1.0;
-            if (k == 3 && d < -window) v = 0.0;
-          }
-          values_[(static_cast<size_t>(r) * 4 + k) * (kQuarter + 1) + m] = static_cast<float>(v);
-        }
-    }
-  }
-
-  /// Eq. 4: the texture coordinate from the edge distance (texels), the two depth tests.
-  double coord(double d_edge, bool occluder_in_front, bool edge_in_front) const {
-    const double dn = std::clamp((d_edge + half_band_) / (2.0 * half_band_), 0.0, 1.0 - 1e-9);
-    return 0.25 * (dn + (occluder_in_front ? 1.0 : 0.0)) + 0.5 * (edge_in_front ? 1.0 : 0.0);
-  }
-
-  /// Linear lookup at `coord` (within its quarter, as a texture clamped per quarter) in the row
-  /// for penumbra width `width` texels (ignored by a 1D table).
-  double lookup(double coord, double width) const {
-    const double c4 = std::clamp(coord, 0.0, 1.0 - 1e-12) * 4.0;
-    const int k = std::min(3, static_cast<int>(std::floor(c4)));
-    const double u = (c4 - k) * kQuarter;
-    const int m = std::min(kQuarter - 1, static_cast<int>(std::floor(u)));
-    const double f = u - m;
-    int r = 0;
-    if (rows_ > 1 && row_width_max_ > 0.0)
-      r = std::clamp(static_cast<int>(std::lround(width / row_width_max_ * (rows_ - 1))), 0,
-                     rows_ - 1);
-    const float* q = &values_[(static_cast<size_t>(r) * 4 + k) * (kQuarter + 1)];
-    return (1.0 - f) * q[m] + f * q[m + 1];
-  }
-
- private:
-  int rows_;
-  double half_band_, row_width_max_;
-  std::vector<float> values_;
-};
 
 /// The columns of row `y` (texel centres at y + ½) within `radius` texels of the face's
 /// silhouette edges: per edge, the row's cut through the rectangle around the segment (the
@@ -208,6 +132,55 @@ void drop_duplicate_faces(std::vector<SilFace>& faces, size_t& dropped) {
 }
 
 }  // namespace
+
+GradientTable::GradientTable(int rows, double half_band, double row_width_max, double aa_width,
+                             double offset)
+    : rows_(rows), half_band_(half_band), row_width_max_(row_width_max) {
+  values_.assign(static_cast<size_t>(rows) * 4 * (kQuarter + 1), 0.0f);
+  for (int r = 0; r < rows; ++r) {
+    // Hard table: a linear ramp aa_width texels wide. Soft rows: disk profile of the row's width.
+    const double width = rows == 1 ? 0.0 : row_width_max * r / (rows - 1);
+    for (int k = 0; k < 4; ++k)
+      for (int m = 0; m <= kQuarter; ++m) {
+        const double d = -half_band + 2.0 * half_band * m / kQuarter + offset;
+        double v = k == 0 ? 1.0 : 0.0;
+        if (k >= 2) {
+          if (rows == 1)
+            v = aa_width > 0.0 ? std::clamp(0.5 - d / aa_width, 0.0, 1.0) : (d > 0 ? 0.0 : 1.0);
+          else
+            v = disk_profile(d, std::max(width, aa_width));
+          // The boundary window (§2.2's offset between the silhouette boundary and the depth
+          // map's): the depth test at the nearest texel centre can disagree with the point only
+          // within half a texel diagonal (+ half the ramp or penumbra) of the edge. Beyond it
+          // the depth map decides, so an edge of another, nearer occluder (overlapping
+          // silhouettes, the "touched silhouettes" of §2.2.1) cannot light an occluded texel.
+          const double window = 0.5 * kDiagonal + 0.5 * std::max(width, aa_width) + 0.25;
+          if (k == 2 && d > window) v = 1.0;
+          if (k == 3 && d < -window) v = 0.0;
+        }
+        values_[(static_cast<size_t>(r) * 4 + k) * (kQuarter + 1) + m] = static_cast<float>(v);
+      }
+  }
+}
+
+double GradientTable::coord(double d_edge, bool occluder_in_front, bool edge_in_front) const {
+  const double dn = std::clamp((d_edge + half_band_) / (2.0 * half_band_), 0.0, 1.0 - 1e-9);
+  return 0.25 * (dn + (occluder_in_front ? 1.0 : 0.0)) + 0.5 * (edge_in_front ? 1.0 : 0.0);
+}
+
+double GradientTable::lookup(double coord, double width) const {
+  const double c4 = std::clamp(coord, 0.0, 1.0 - 1e-12) * 4.0;
+  const int k = std::min(3, static_cast<int>(std::floor(c4)));
+  const double u = (c4 - k) * kQuarter;
+  const int m = std::min(kQuarter - 1, static_cast<int>(std::floor(u)));
+  const double f = u - m;
+  int r = 0;
+  if (rows_ > 1 && row_width_max_ > 0.0)
+    r = std::clamp(static_cast<int>(std::lround(width / row_width_max_ * (rows_ - 1))), 0,
+                   rows_ - 1);
+  const float* q = &values_[(static_cast<size_t>(r) * 4 + k) * (kQuarter + 1)];
+  return (1.0 - f) * q[m] + f * q[m + 1];
+}
 
 std::vector<TamFace> build_tam(const Scene& scene) {
   std::vector<TamFace> tam;
@@ -332,16 +305,9 @@ double scale_factor(double inradius, double width_texels) {
   return (inradius + w_sc) / inradius;  // eq. 2
 }
 
-SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthMap& map,
-                                   double half_band) {
-  const int res = map.resolution();
-  SilhouetteLayer layer;
-  layer.half_band = half_band;
-  layer.distance = Image<float>(res, res, 0.0f);
-  layer.depth = Image<float>(res, res, kInfinity);
-  const Projection& proj = map.proj;
+std::vector<SilFace> silhouette_faces(const std::vector<TamFace>& tam, const Projection& proj,
+                                      int res, double half_band, SilhouetteLayer& layer) {
   const DVec3 eye = proj.eye;
-
   std::vector<SilFace> faces;
   for (const TamFace& t : tam) {
     SilFace f;
@@ -385,6 +351,17 @@ SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthM
     faces.push_back(f);
   }
   drop_duplicate_faces(faces, layer.duplicate_faces);
+  return faces;
+}
+
+SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthMap& map,
+                                   double half_band) {
+  const int res = map.resolution();
+  SilhouetteLayer layer;
+  layer.half_band = half_band;
+  layer.distance = Image<float>(res, res, 0.0f);
+  layer.depth = Image<float>(res, res, kInfinity);
+  const std::vector<SilFace> faces = silhouette_faces(tam, map.proj, res, half_band, layer);
 
   const int bands = (res + kBand - 1) / kBand;
   std::vector<std::vector<uint32_t>> bins(bands);
@@ -465,9 +442,6 @@ SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthM
   return layer;
 }
 
-namespace {
-
-/// The radius of the spherical light the soft mode assumes [§2.2.1].
 double light_radius(const Light& light) {
   switch (light.shape) {
     case LightShape::point:
@@ -480,6 +454,29 @@ double light_radius(const Light& light) {
   }
   return 0.0;
 }
+
+double receivers_zmax(const ShadowContext& ctx, const Projection& proj) {
+  const GBuffer& g = ctx.gbuffer;
+  double zmax = 0.0;
+  for (size_t i = 0; i < g.pixel_count(); ++i) {
+    if (ctx.receivers[i] != kActive) continue;
+    const DVec4 c = proj.to_clip(DVec4(DVec3(g.shadow_origin(i)), 1.0));
+    if (c.w > 0.0) zmax = std::max(zmax, c.w);  // DepthMap::project's view depth
+  }
+  return zmax;
+}
+
+void silhouette_band(double width, double max_band, double radius, double min_depth, double zmax,
+                     double texel_tan, double& half_band, double& max_width) {
+  half_band = std::max(0.5 * width, 1.0);
+  max_width = 0.0;
+  if (radius > 0.0 && min_depth < kInfinity) {
+    if (zmax > min_depth) max_width = 2.0 * radius * (1.0 / min_depth - 1.0 / zmax) / texel_tan;
+    half_band = std::clamp(0.5 * max_width + 2.0, half_band, std::max(half_band, max_band));
+  }
+}
+
+namespace {
 
 class SilhouetteMap final : public ShadowMethod {
  public:
@@ -499,19 +496,11 @@ class SilhouetteMap final : public ShadowMethod {
 
     // Soft mode: the band must hold the widest penumbra (nearest caster, furthest receiver).
     const double radius = soft_ ? light_radius(ctx.light) : 0.0;
-    double half_band = std::max(0.5 * width_, 1.0);
-    double max_width = 0.0;
-    if (radius > 0.0 && map.min_depth < kInfinity) {
-      double zmax = 0.0;
-      for (size_t i = 0; i < g.pixel_count(); ++i) {
-        if (ctx.receivers[i] != kActive) continue;
-        double sx, sy, z;
-        if (map.project(DVec3(g.shadow_origin(i)), sx, sy, z)) zmax = std::max(zmax, z);
-      }
-      if (zmax > map.min_depth)
-        max_width = 2.0 * radius * (1.0 / map.min_depth - 1.0 / zmax) / map.texel_tan;
-      half_band = std::clamp(0.5 * max_width + 2.0, half_band, std::max(half_band, max_band_));
-    }
+    double half_band = 0.0, max_width = 0.0;
+    const double zmax =
+        radius > 0.0 && map.min_depth < kInfinity ? receivers_zmax(ctx, map.proj) : 0.0;
+    silhouette_band(width_, max_band_, radius, map.min_depth, zmax, map.texel_tan, half_band,
+                    max_width);
 
     auto start = std::chrono::steady_clock::now();
     const std::vector<TamFace> tam = build_tam(ctx.scene);

@@ -70,6 +70,65 @@ struct SilhouetteLayer {
 SilhouetteLayer render_silhouettes(const std::vector<TamFace>& tam, const DepthMap& map,
                                    double half_band);
 
+/// One face of the silhouette pass: projected, its silhouette edges found (eq. 1), its cover
+/// corrected (§2.1.1) and scaled (eq. 2).
+struct SilFace {
+  DVec3 s[3];       // projected face (x, y texels; z = 1/w): the TAM's three position fields
+  DVec3 scaled[3];  // scaled about the incenter (eq. 2): the rasterized cover
+  int mask = 0;     // bit c: edge c → c+1 is a silhouette (eq. 1)
+  // Sign of the face's side of each edge line (±1). The paper signs the distance by "inside the
+  // triangle"; faces next to a silhouette are seen at grazing angles and project to slivers, so a
+  // texel just inside the occluder is usually outside both of them. We sign by the half-plane of
+  // the edge that holds the face (the projected opposite vertex; after the §2.1.1 correction if
+  // the projection was collinear), which is the triangle test wherever the triangle is.
+  double side[3] = {1.0, 1.0, 1.0};
+};
+
+/// The faces the silhouette pass rasterizes, in merge order: TAM faces with a silhouette edge seen
+/// from proj.eye, in front of the light, with a cover that reaches the res² map, exact repeats
+/// left out. Fills layer's silhouette_faces, corrected_faces and duplicate_faces.
+std::vector<SilFace> silhouette_faces(const std::vector<TamFace>& tam, const Projection& proj,
+                                      int res, double half_band, SilhouetteLayer& layer);
+
+/// Table entries per quarter of eq. 4's coordinate, and rows of the soft table (§2.2.1).
+inline constexpr int kQuarter = 256;
+inline constexpr int kSoftRows = 64;
+
+/// The lookup table of eq. 4 [§2.2], 1D (rows = 1) or 2D (soft, §2.2.1). The coordinate
+/// coord = ¼(d_E + [z_O < z]) + ½[z_E < z], d_E ∈ [0, 1) the normalised edge distance, falls in
+/// one of four quarters: lit, shadowed (map says so, edge behind), and twice the edge gradient.
+class GradientTable {
+ public:
+  GradientTable(int rows, double half_band, double row_width_max, double aa_width, double offset);
+  /// Eq. 4: the texture coordinate from the edge distance (texels), the two depth tests.
+  double coord(double d_edge, bool occluder_in_front, bool edge_in_front) const;
+  /// Linear lookup at `coord` (within its quarter, as a texture clamped per quarter) in the row
+  /// for penumbra width `width` texels (ignored by a 1D table).
+  double lookup(double coord, double width) const;
+  /// rows × 4 quarters × (kQuarter + 1) entries, row-major.
+  const std::vector<float>& values() const { return values_; }
+  int rows() const { return rows_; }
+  double row_width_max() const { return row_width_max_; }
+
+ private:
+  int rows_;
+  double half_band_, row_width_max_;
+  std::vector<float> values_;
+};
+
+/// The radius of the spherical light the soft mode assumes [§2.2.1] (a rect: the disk of the same
+/// area; a point: 0).
+double light_radius(const Light& light);
+
+/// The largest view depth through `proj` of the kActive pixels' shadow origins (0 if none).
+double receivers_zmax(const ShadowContext& ctx, const Projection& proj);
+
+/// The thick silhouette's half-width (texels) and the widest penumbra (texels) for the options
+/// `width` and `max_band`: soft mode with a light of `radius` > 0 widens the band to hold the
+/// penumbra from the nearest caster (min_depth) to the furthest receiver (zmax, view depths).
+void silhouette_band(double width, double max_band, double radius, double min_depth, double zmax,
+                     double texel_tan, double& half_band, double& max_width);
+
 /// The options and factory (the registry entry is register_silhouette_map).
 MethodInfo silhouette_map_info();
 
