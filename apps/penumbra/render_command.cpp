@@ -366,8 +366,8 @@ void add_render_command(CLI::App& app) {
                   "modulate (V_coef × unshadowed, eq. 4.3) or integrate (per-sample, eq. 4.6)")
       ->check(CLI::IsMember({"modulate", "integrate"}));
   cmd->add_option("--backend", args->backend,
-                  "Where the methods run: cpu, or vulkan (gears, shadow_map, pcss, shadow_volume "
-                  "on the GPU)")
+                  "Where the methods run: cpu, or vulkan (gears, dcs, wedges, wedge_blend, ssm, "
+                  "silhouette_map, shadow_map, pcss and shadow_volume on the GPU)")
       ->check(CLI::IsMember({"cpu", "vulkan"}));
   cmd->add_option("--vk-device", args->vk_device,
                   "Vulkan device: index or name substring (default $PENUMBRA_VK_DEVICE, else the "
