@@ -9,6 +9,7 @@
 //   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
 // Three submissions per side of the light plane: the pair count is read back to size the pair
 // buffers, and the longest cell to size the rasterization's chunks.
+#include <algorithm>
 #include <bit>
 #include <chrono>
 #include <deque>
@@ -68,11 +69,13 @@ struct RasterPush {
   uint32_t first, chunk;  // this dispatch's part of each cell's list
   float uv_lo[2], uv_hi[2];
   VkDeviceAddress alpha, texels, samples;
+  uint32_t flags;  // 2: deepest first, 4: the pixel's depth cut
 };
-static_assert(sizeof(RasterPush) == 120);
+static_assert(sizeof(RasterPush) == 128);
 struct SamplesPush {
   VkDeviceAddress pix, tris, cell, begin, end, vals, words_out, emit, samples, alpha, texels;
-  uint32_t n, ns, words, first, chunk, per_pixel;
+  uint32_t n, ns, words, first, chunk;
+  uint32_t flags;  // 1: per-pixel samples, 2: deepest first, 4: the pixel's depth cut
   float uv_lo[2], uv_hi[2];
 };
 static_assert(sizeof(SamplesPush) == 128);
@@ -80,6 +83,12 @@ static_assert(sizeof(SamplesPush) == 128);
 // Triangles of a cell one rasterization dispatch walks: × 32 rows × 4 lines below llvmpipe's
 // 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
 constexpr uint32_t kRasterChunk = 256;
+/// The same with alpha-tested or semi-opaque triangles, whose covered samples are visited one by
+/// one (up to k per row).
+uint32_t rows_chunk(int k, bool translucent) {
+  if (!translucent) return kRasterChunk;
+  return std::clamp<uint32_t>(50000u / static_cast<uint32_t>(k * k + k + 1), 1, kRasterChunk);
+}
 /// The same for the per-sample rasterizer (gears_samples.comp): one iteration per sample.
 uint32_t samples_chunk(int samples) {
   return std::clamp<uint32_t>(50000u / static_cast<uint32_t>(samples + 8), 1, kRasterChunk);
@@ -89,6 +98,39 @@ void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
 }
 
+/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 3 vec4
+/// of alpha data per triangle.
+struct SideTriangles {
+  std::vector<float> tris, alpha;
+};
+
+/// The occluders in order of this side's nearest depth (z mirrored by `side`), ties by id: the
+/// CPU's order [Wang 2014 §4.2, the prefix sum in triangle order], so each cell's list, a stable
+/// sort by cell of the pairs, is in depth order and a pixel's depth cut is a prefix of it.
+SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<float>& alpha,
+                            int side) {
+  const size_t count = tris.size() / 12;
+  const float sgn = static_cast<float>(side);
+  std::vector<float> zmin(count);
+  for (size_t t = 0; t < count; ++t)
+    zmin[t] =
+        std::min(sgn * tris[12 * t + 2], std::min(sgn * tris[12 * t + 6], sgn * tris[12 * t + 10]));
+  std::vector<uint32_t> order(count);
+  for (size_t t = 0; t < count; ++t) order[t] = static_cast<uint32_t>(t);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return zmin[a] < zmin[b]; });
+  SideTriangles out;
+  out.tris.resize(tris.size());
+  out.alpha.resize(alpha.size());
+  for (size_t r = 0; r < count; ++r) {
+    const size_t t = order[r];
+    std::copy_n(tris.begin() + 12 * t, 12, out.tris.begin() + 12 * r);
+    std::copy_n(alpha.begin() + 12 * t, 12, out.alpha.begin() + 12 * r);
+    out.tris[12 * r + 3] = zmin[t];
+  }
+  return out;
+}
+
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
@@ -96,6 +138,8 @@ class GearsVk final : public ShadowMethod {
       throw Error("gears.variant=" + o.get_choice("variant") +
                   " has no Vulkan path (the GPU rasterizes edge planes)");
     grid_ = o.get_int("grid");
+    deepest_first_ = o.get_bool("deepest_first");
+    pixel_cull_ = o.get_bool("pixel_cull");
     eye_distance_ = static_cast<float>(o.get_real("eye_distance"));
   }
 
@@ -163,11 +207,13 @@ class GearsVk final : public ShadowMethod {
     std::vector<float> tris, alpha;
     std::vector<uint32_t> texels;
     std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
+    bool semi_opaque = false;  // some occluder has transmittance > 0
+    bool translucent = false;  // some occluder is semi-opaque or alpha-tested
     for (const Mesh& mesh : ctx.scene.meshes) {
       if (!mesh.casts_shadows) continue;
       const Material& mat = ctx.scene.material_of(mesh);
-      if (mat.transmittance > 0.0f)
-        throw Error("gears on vulkan: semi-opaque occluders are not supported (use --backend cpu)");
+      semi_opaque |= mat.transmittance > 0.0f;
+      translucent |= mat.transmittance > 0.0f || mat.alpha_texture >= 0;
       const Texture* tex =
           mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
       float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -189,8 +235,8 @@ class GearsVk final : public ShadowMethod {
         Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
         if (tex && !mesh.uvs.empty())
           for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
-        alpha.insert(alpha.end(),
-                     {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y, 0.0f, 0.0f});
+        alpha.insert(alpha.end(), {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y,
+                                   mat.transmittance, 0.0f});
       }
     }
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
@@ -248,26 +294,34 @@ class GearsVk final : public ShadowMethod {
     } else {
       for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
     }
+    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
+    // occluders keep the list's order, so that their products are formed in the CPU's order.
+    const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
     vis.times.add("light_space_setup", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
     const uint32_t na = static_cast<uint32_t>(active.size());
     const Buffer pix_buf = vk.upload(pix);
-    const Buffer tri_buf = vk.upload(tris);
     const Buffer emit_buf = use_rows ? vk.upload(emit_rows) : vk.upload(emit_bits);
-    const Buffer alpha_buf = vk.upload(alpha);
     const Buffer texel_buf = vk.upload(texels);
     const Buffer sample_buf = vk.upload(sample_uv);
     const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
     const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
-    const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * words_per_pixel, 1) * 4,
-                          Memory::device);
+    // Semi-opaque occluders: each pixel's per-sample transmittances (floats, 1 at first) after
+    // the masks, in the same buffer (the shaders' push constants are full).
+    const size_t mask_words = size_t{na} * words_per_pixel;
+    const size_t trans_words = semi_opaque ? size_t{na} * static_cast<size_t>(ns) : 0;
+    const Buffer rows_buf(vk, std::max<size_t>(mask_words + trans_words, 1) * 4, Memory::device);
     const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
     const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
-    vk.submit_now(
-        [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0); });
+    vk.submit_now([&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0);
+      if (trans_words > 0)
+        vkCmdFillBuffer(cmd, rows_buf.handle(), mask_words * 4, trans_words * 4,
+                        std::bit_cast<uint32_t>(1.0f));
+    });
     vis.times.add("wall_upload", elapsed_ms(t0));
 
     double wall_gpu = 0.0;
@@ -293,6 +347,9 @@ class GearsVk final : public ShadowMethod {
       for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
         for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
       const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
+      const SideTriangles sorted = sort_by_depth(tris, alpha, side);
+      const Buffer tri_buf = vk.upload(sorted.tris);
+      const Buffer alpha_buf = vk.upload(sorted.alpha);
       const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
       const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
       vis.times.add("grid_camera", elapsed_ms(t0));
@@ -374,29 +431,31 @@ class GearsVk final : public ShadowMethod {
         CommandList raster(vk);
         const uint32_t chunk = samples_chunk(ns);
         for (uint32_t first = 0; first < longest && !use_rows; first += chunk) {
-          const SamplesPush sp{pix_buf.address(),
-                               tri_buf.address(),
-                               cell_buf.address(),
-                               begin.address(),
-                               end.address(),
-                               sorted_vals.address(),
-                               rows_buf.address(),
-                               emit_buf.address(),
-                               sample_buf.address(),
-                               alpha_buf.address(),
-                               texel_buf.address(),
-                               na,
-                               static_cast<uint32_t>(ns),
-                               words,
-                               first,
-                               chunk,
-                               per_pixel || point ? 1u : 0u,
-                               {uv_lo.x, uv_lo.y},
-                               {uv_hi.x, uv_hi.y}};
+          const SamplesPush sp{
+              pix_buf.address(),
+              tri_buf.address(),
+              cell_buf.address(),
+              begin.address(),
+              end.address(),
+              sorted_vals.address(),
+              rows_buf.address(),
+              emit_buf.address(),
+              sample_buf.address(),
+              alpha_buf.address(),
+              texel_buf.address(),
+              na,
+              static_cast<uint32_t>(ns),
+              words,
+              first,
+              chunk,
+              (per_pixel || point ? 1u : 0u) | (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u),
+              {uv_lo.x, uv_lo.y},
+              {uv_hi.x, uv_hi.y}};
           raster.dispatch(programs.get(Shader::gears_samples), sp, na);
           raster.barrier();
         }
-        for (uint32_t first = 0; first < longest && use_rows; first += kRasterChunk) {
+        const uint32_t row_chunk = rows_chunk(k, translucent);
+        for (uint32_t first = 0; first < longest && use_rows; first += row_chunk) {
           const RasterPush rp{pix_buf.address(),
                               tri_buf.address(),
                               cell_buf.address(),
@@ -408,12 +467,13 @@ class GearsVk final : public ShadowMethod {
                               na,
                               k,
                               first,
-                              kRasterChunk,
+                              row_chunk,
                               {uv_lo.x, uv_lo.y},
                               {uv_hi.x, uv_hi.y},
                               alpha_buf.address(),
                               texel_buf.address(),
-                              sample_buf.address()};
+                              sample_buf.address(),
+                              (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u)};
           raster.dispatch(programs.get(Shader::gears_raster), rp, na);
           raster.barrier();
         }
@@ -426,8 +486,7 @@ class GearsVk final : public ShadowMethod {
 
     // ---- Readback: rows → SampleMasks (bit i·k + j... row-major: sample s = j·k + i).
     t0 = std::chrono::steady_clock::now();
-    const std::vector<uint32_t> rows =
-        vk.download<uint32_t>(rows_buf, size_t{na} * words_per_pixel);
+    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, mask_words + trans_words);
     std::vector<Vec2> uvs(n);
     std::vector<float> sample_vis(n);
     for (size_t a = 0; a < active.size(); ++a) {
@@ -447,7 +506,7 @@ class GearsVk final : public ShadowMethod {
         for (uint32_t w = 0; w < words; ++w)
           m[w >> 1] |= uint64_t{rows[a * words + w]} << (32 * (w & 1));
       }
-      if (!emission && !per_pixel && !point) {
+      if (!emission && !per_pixel && !point && !semi_opaque) {
         int blocked = 0;
         for (int i = 0; i < masks.words_per_pixel(); ++i)
           blocked += std::popcount(m[i] & emit_words[i]);
@@ -460,7 +519,13 @@ class GearsVk final : public ShadowMethod {
       const LightFrame frame = light_frame(light, g.shadow_origin(pixel));
       ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
                                 static_cast<int>(pixel / g.width), uvs);
-      for (int s = 0; s < n; ++s) sample_vis[s] = masks.blocked(pixel, s) ? 0.0f : 1.0f;
+      // Unblocked samples: the product of the semi-opaque layers they cross (a point light's one
+      // sample standing for all), as the CPU shades them.
+      const uint32_t* trans = semi_opaque ? rows.data() + mask_words + a * ns : nullptr;
+      for (int s = 0; s < n; ++s)
+        sample_vis[s] = masks.blocked(pixel, s)
+                            ? 0.0f
+                            : (trans ? std::bit_cast<float>(trans[point ? 0 : s]) : 1.0f);
       const SampleWeights w =
           accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
       vis.lit[pixel] = w.visible_fraction();
@@ -477,6 +542,8 @@ class GearsVk final : public ShadowMethod {
  private:
   Backend& backend_;
   int grid_ = 0;
+  bool deepest_first_ = true;
+  bool pixel_cull_ = true;
   float eye_distance_ = 1.0f;
 };
 

@@ -1,7 +1,7 @@
 // GEARS step 4 on the GPU, shared by the row-span (gears_raster.comp) and per-sample
 // (gears_samples.comp) rasterizers: the four lines of a triangle seen from a pixel and the alpha
 // test at a sample, the CPU's arithmetic (shadows/gears/raster.cpp) operation for operation.
-// Expects a push-constant block `pc` with `tris`, `alpha` and `texels`.
+// Expects a push-constant block `pc` with `tris`, `vals`, `alpha` and `texels`.
 
 /// Does alpha-tested triangle t block the light point (su, sv)? The texture decides at the
 /// barycentrics of the sample's ray (the CPU's hit_barycentrics and Texture::texel_index).
@@ -20,6 +20,46 @@ bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, fl
   const int tx = min(width - 1, max(0, int(u * float(width))));
   const int ty = min(height - 1, max(0, int(v * float(height))));
   return pc.texels.v[floatBitsToUint(h.x) + uint(ty * width + tx)] != 0u;
+}
+
+/// The transmittance of triangle t's material: 0 for an opaque occluder, which sets mask bits; a
+/// semi-opaque one only scales the transmittance of the samples it covers.
+float transmittance_of(uint t) { return pc.alpha.v[3u * t + 2u].z; }
+
+/// Semi-opaque occluders: multiplies the transmittance stored (as float bits) at word `at`, as the
+/// CPU multiplies its per-sample transmittance, one layer after another in list order.
+void attenuate(Uints store, uint at, float transmittance) {
+  precise float tr = uintBitsToFloat(store.v[at]) * transmittance;
+  store.v[at] = floatBitsToUint(tr);
+}
+
+/// End of a pixel's depth prefix of cell list [b0, b1): the entries whose triangle's nearest depth
+/// on this side (the first vertex's w) is at most `cut`. The lists are in (depth, id) order.
+uint depth_prefix_end(uint b0, uint b1, float cut) {
+  uint lo = b0, hi = b1;
+  while (lo < hi) {
+    const uint mid = lo + (hi - lo) / 2u;
+    if (pc.tris.v[3u * pc.vals.v[mid]].w <= cut) lo = mid + 1u;
+    else hi = mid;
+  }
+  return lo;
+}
+
+/// The entries [e0, e1) of a cell list [b0, b1) that dispatch `first` walks, `chunk` at most:
+/// within the pixel's depth prefix (flags & 4) and, deepest first (flags & 2), counted from its
+/// end. False when none are left.
+bool walk_range(uint b0, uint b1, float cut, uint first, uint chunk, uint flags, out uint e0,
+                out uint e1) {
+  const uint end = (flags & 4u) != 0u ? depth_prefix_end(b0, b1, cut) : b1;
+  if (first >= end - b0) return false;
+  if ((flags & 2u) != 0u) {
+    e1 = end - first;
+    e0 = e1 - min(chunk, e1 - b0);
+  } else {
+    e0 = b0 + first;
+    e1 = e0 + min(chunk, end - e0);
+  }
+  return true;
 }
 
 // max/min as the CPU's vector code writes them (a NaN operand picks b).

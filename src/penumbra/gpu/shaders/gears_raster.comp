@@ -24,23 +24,27 @@ layout(push_constant) uniform Push {
   Uints begin;
   Uints end;
   Uints vals;       // sorted triangle ids
-  Uints rows_out;   // k words per active pixel
+  Uints rows_out;   // k words per active pixel, then (semi-opaque scenes) k² floats per pixel
   Uints emit_rows;  // k words: the samples the light emits from
   uint n;
   int k;
-  uint first;  // this dispatch: entries [first, first + chunk) of each cell's list
+  uint first;  // this dispatch: walk_range's entries first … first + chunk − 1
   uint chunk;
   vec2 uv_lo;  // bounding box of the sample positions
   vec2 uv_hi;
   Vec4s alpha;      // 3 per triangle: (texel offset, width, height, 1 = alpha-tested), uv0 uv1, uv2
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   Floats samples;   // light uv of sample s at 2s, 2s + 1
+  uint flags;       // 2: deepest first, 4: the pixel's depth cut
 } pc;
 
 #include "gears_lines.glsl"
 
-/// ORs triangle t's coverage of the k×k samples into rows; false when it covers nothing.
-bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint rows[32]) {
+/// ORs triangle t's coverage of the k×k samples into rows; false when it sets no bit. A
+/// semi-opaque triangle instead scales the transmittance of each sample it covers (the pixel's
+/// k² floats from word `trans_base` of rows_out).
+bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans_base,
+                     inout uint rows[32]) {
   const float kf = float(k);
   float la[4], lb[4], lc[4];
   if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) return false;
@@ -58,6 +62,7 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
   }
   bool any = false;
   const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
+  const float transmittance = transmittance_of(t);
   for (int j = 0; j < k; ++j) {
     const float jf = float(j);
     precise float t_lo = -2.0, t_hi = kf + 1.0;
@@ -77,6 +82,11 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
         for (int i = lo; i <= hi; ++i)
           if (!alpha_blocks_at(t, la, lb, lc, pc.samples.v[2 * (j * k + i)],
                                pc.samples.v[2 * (j * k + i) + 1])) span &= ~(1u << uint(i));
+      if (transmittance > 0.0) {
+        for (uint bits = span; bits != 0u; bits &= bits - 1u)
+          attenuate(pc.rows_out, trans_base + uint(j * k + findLSB(bits)), transmittance);
+        continue;
+      }
       rows[j] |= span;
       any = any || span != 0u;
     }
@@ -90,13 +100,21 @@ void main() {
   const uint c = pc.cell.v[a];
   if (c == 0xffffffffu) return;
   const int k = pc.k;
-  const vec3 p = pc.pix.v[4u * a].xyz;
+  // The whole vec4 at once: p and the depth cut (w). (Read as .w on its own after .xyz,
+  // lavapipe returned x.)
+  const vec4 p_cut = pc.pix.v[4u * a];
+  const vec3 p = p_cut.xyz;
   const vec3 w = pc.pix.v[4u * a + 1u].xyz;
   const vec3 eu = pc.pix.v[4u * a + 2u].xyz;
   const vec3 ev = pc.pix.v[4u * a + 3u].xyz;
-  const uint e0 = pc.begin.v[c] + pc.first, e1 = min(pc.end.v[c], e0 + pc.chunk);
-  if (e0 >= e1) return;
+  uint e0, e1;
+  if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
+                  e0, e1))
+    return;
+  const bool descending = (pc.flags & 2u) != 0u;
   const uint base = a * uint(k);
+  // Semi-opaque occluders: the pixels' per-sample transmittances follow the rows in rows_out.
+  const uint trans_base = pc.n * uint(k) + a * uint(k * k);
   uint rows[32];
   uint emit[32];
   bool full = true;
@@ -105,9 +123,9 @@ void main() {
     emit[j] = j < k ? pc.emit_rows.v[j] : 0u;
     full = full && (rows[j] & emit[j]) == emit[j];
   }
-  for (uint e = e0; e < e1 && !full; ++e) {
-    const uint t = pc.vals.v[e];
-    if (raster_triangle(t, p, w, eu, ev, k, rows)) {
+  for (uint i = 0u; i < e1 - e0 && !full; ++i) {
+    const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
+    if (raster_triangle(t, p, w, eu, ev, k, trans_base, rows)) {
       // Every emitting sample blocked: no later triangle can change the mask.
       full = true;
       for (int j = 0; j < 32; ++j) full = full && (rows[j] & emit[j]) == emit[j];

@@ -19,7 +19,7 @@ layout(push_constant) uniform Push {
   Uints begin;
   Uints end;
   Uints vals;       // sorted triangle ids
-  Uints words_out;  // `words` per active pixel
+  Uints words_out;  // `words` per active pixel, then (semi-opaque scenes) ns floats per pixel
   Uints emit;       // `words` (shared) or `words` per active pixel (per_pixel)
   Floats samples;   // light uv of sample s at 2s, 2s + 1 (shared) or per active pixel (per_pixel)
   Vec4s alpha;      // 3 per triangle: (texel offset, width, height, 1 = alpha-tested), uv0 uv1, uv2
@@ -27,10 +27,10 @@ layout(push_constant) uniform Push {
   uint n;
   uint ns;     // samples tested (1 for a point light)
   uint words;  // ⌈ns / 32⌉
-  uint first;  // this dispatch: entries [first, first + chunk) of each cell's list
+  uint first;  // this dispatch: walk_range's entries first … first + chunk − 1
   uint chunk;
-  uint per_pixel;  // samples and emitting bits per pixel
-  vec2 uv_lo;      // bounding box of the sample positions
+  uint flags;   // 1: samples and emitting bits per pixel, 2: deepest first, 4: the depth cut
+  vec2 uv_lo;   // bounding box of the sample positions
   vec2 uv_hi;
 } pc;
 
@@ -41,15 +41,24 @@ void main() {
   if (a >= pc.n) return;
   const uint c = pc.cell.v[a];
   if (c == 0xffffffffu) return;
-  const vec3 p = pc.pix.v[4u * a].xyz;
+  // The whole vec4 at once: p and the depth cut (w). (Read as .w on its own after .xyz,
+  // lavapipe returned x.)
+  const vec4 p_cut = pc.pix.v[4u * a];
+  const vec3 p = p_cut.xyz;
   const vec3 w = pc.pix.v[4u * a + 1u].xyz;
   const vec3 eu = pc.pix.v[4u * a + 2u].xyz;
   const vec3 ev = pc.pix.v[4u * a + 3u].xyz;
-  const uint e0 = pc.begin.v[c] + pc.first, e1 = min(pc.end.v[c], e0 + pc.chunk);
-  if (e0 >= e1) return;
+  uint e0, e1;
+  if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
+                  e0, e1))
+    return;
+  const bool descending = (pc.flags & 2u) != 0u;
   const uint base = a * pc.words;
-  const uint emit_base = pc.per_pixel != 0u ? base : 0u;
-  const uint sample_base = pc.per_pixel != 0u ? 2u * a * pc.ns : 0u;
+  // Semi-opaque occluders: the pixels' per-sample transmittances follow the masks in words_out.
+  const uint trans_base = pc.n * pc.words + a * pc.ns;
+  const bool per_pixel = (pc.flags & 1u) != 0u;
+  const uint emit_base = per_pixel ? base : 0u;
+  const uint sample_base = per_pixel ? 2u * a * pc.ns : 0u;
   uint bits[kMaxWords];
   bool full = true;
   for (uint i = 0u; i < pc.words; ++i) {
@@ -57,11 +66,12 @@ void main() {
     const uint em = pc.emit.v[emit_base + i];
     full = full && (bits[i] & em) == em;
   }
-  for (uint e = e0; e < e1 && !full; ++e) {
-    const uint t = pc.vals.v[e];
+  for (uint i = 0u; i < e1 - e0 && !full; ++i) {
+    const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
     float la[4], lb[4], lc[4];
     if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) continue;
     const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
+    const float transmittance = transmittance_of(t);
     bool any = false;
     for (uint s = 0u; s < pc.ns; ++s) {
       const float su = pc.samples.v[sample_base + 2u * s];
@@ -72,6 +82,10 @@ void main() {
       precise const float h3 = la[3] + lb[3] * su + lc[3] * sv;
       if (!(h0 >= 0.0 && h1 >= 0.0 && h2 >= 0.0 && h3 >= 0.0)) continue;
       if (alpha_tested && !alpha_blocks_at(t, la, lb, lc, su, sv)) continue;
+      if (transmittance > 0.0) {
+        attenuate(pc.words_out, trans_base + s, transmittance);
+        continue;
+      }
       bits[s >> 5] |= 1u << (s & 31u);
       any = true;
     }
