@@ -66,6 +66,42 @@ bool walk_range(uint b0, uint b1, float cut, uint first, uint chunk, uint flags,
 float vmax(float a, float b) { return a > b ? a : b; }
 float vmin(float a, float b) { return a < b ? a : b; }
 
+/// The CPU's shadow-box test (shadows/gears/raster.cpp shadow_box_holds_samples), for a light
+/// whose uv is light-space xy (eu = x, ev = y: rect and disk lights). When the three vertices lie
+/// between the light plane and pixel point p, the triangle's shadow on the light is the triangle
+/// of their projections from p, so its uv bounding box must overlap the sample box [uv_lo, uv_hi]
+/// and, on a k×k grid (k > 0), hold a sample centre ((i + ½)/k, (j + ½)/k), the box widened by
+/// 10⁻⁴ light widths (far above the projections' rounding, so the lines still decide every sample
+/// near an edge). False when it cannot cover a sample; rows [j0, j1] hold all it can cover.
+bool shadow_box(uint t, vec3 p, vec3 eu, vec3 ev, int k, vec2 uv_lo, vec2 uv_hi, out int j0,
+                out int j1) {
+  j0 = 0;
+  j1 = k - 1;
+  if (eu != vec3(1.0, 0.0, 0.0) || ev != vec3(0.0, 1.0, 0.0)) return true;
+  precise vec3 A = pc.tris.v[3u * t].xyz - p;
+  precise vec3 B = pc.tris.v[3u * t + 1u].xyz - p;
+  precise vec3 C = pc.tris.v[3u * t + 2u].xyz - p;
+  if (!(A.z < 0.0 && A.z > -p.z && B.z < 0.0 && B.z > -p.z && C.z < 0.0 && C.z > -p.z))
+    return true;
+  precise float ta = p.z / -A.z, tb = p.z / -B.z, tc = p.z / -C.z;
+  precise float ua = p.x + A.x * ta, ub = p.x + B.x * tb, uc = p.x + C.x * tc;
+  precise float va = p.y + A.y * ta, vb = p.y + B.y * tb, vc = p.y + C.y * tc;
+  const float u0 = vmin(vmin(ua, ub), uc), u1 = vmax(vmax(ua, ub), uc);
+  const float v0 = vmin(vmin(va, vb), vc), v1 = vmax(vmax(va, vb), vc);
+  if (!(u0 <= uv_hi.x && u1 >= uv_lo.x && v0 <= uv_hi.y && v1 >= uv_lo.y)) return false;
+  if (k <= 0) return true;
+  const float kf = float(k), slack = 1e-4 * kf;
+  // First and last sample centre within [x0, x1]: ceil / floor of k·x − ½ ∓ slack, clamped to
+  // [−2, k + 1] first (NaN → −2).
+  precise float a0 = kf * u0 - 0.5 - slack, a1 = kf * u1 - 0.5 + slack;
+  precise float b0 = kf * v0 - 0.5 - slack, b1 = kf * v1 - 0.5 + slack;
+  const int i0 = max(int(ceil(vmin(vmax(a0, -2.0), kf + 1.0))), 0);
+  const int i1 = min(int(floor(vmin(vmax(a1, -2.0), kf + 1.0))), k - 1);
+  j0 = max(int(ceil(vmin(vmax(b0, -2.0), kf + 1.0))), 0);
+  j1 = min(int(floor(vmin(vmax(b1, -2.0), kf + 1.0))), k - 1);
+  return i0 <= i1 && j0 <= j1;
+}
+
 /// u × w with u, w in lexicographic order; `sgn` = +1 when that order is (u, w), else −1.
 vec3 edge_normal(vec3 u, vec3 w, out float sgn) {
   const bool before = u.x < w.x || (u.x == w.x && (u.y < w.y || (u.y == w.y && u.z <= w.z)));

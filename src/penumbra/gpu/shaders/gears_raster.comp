@@ -46,6 +46,8 @@ layout(push_constant) uniform Push {
 bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans_base,
                      inout uint rows[32]) {
   const float kf = float(k);
+  int j0, j1;
+  if (!shadow_box(t, p, eu, ev, k, pc.uv_lo, pc.uv_hi, j0, j1)) return false;
   float la[4], lb[4], lc[4];
   if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) return false;
   // Row-span form in sample-index space (sample (i, j) at ((i + ½)/k, (j + ½)/k)): line m is
@@ -63,7 +65,7 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans
   bool any = false;
   const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
   const float transmittance = transmittance_of(t);
-  for (int j = 0; j < k; ++j) {
+  for (int j = j0; j <= j1; ++j) {
     const float jf = float(j);
     precise float t_lo = -2.0, t_hi = kf + 1.0;
     bool empty = false;
