@@ -20,6 +20,7 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
+#include "penumbra/shadows/gears/item_cull.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 
 namespace penumbra::gpu {
@@ -69,13 +70,13 @@ struct RasterPush {
   uint32_t first, chunk;  // this dispatch's part of each cell's list
   float uv_lo[2], uv_hi[2];
   VkDeviceAddress alpha, texels, samples;
-  uint32_t flags;  // 2: deepest first, 4: the pixel's depth cut
+  uint32_t flags;  // 2: deepest first, 4: the pixel's culls
 };
 static_assert(sizeof(RasterPush) == 128);
 struct SamplesPush {
   VkDeviceAddress pix, tris, cell, begin, end, vals, words_out, emit, samples, alpha, texels;
   uint32_t n, ns, words, first, chunk;
-  uint32_t flags;  // 1: per-pixel samples, 2: deepest first, 4: the pixel's depth cut
+  uint32_t flags;  // 1: per-pixel samples, 2: deepest first, 4: the pixel's culls
   float uv_lo[2], uv_hi[2];
 };
 static_assert(sizeof(SamplesPush) == 128);
@@ -98,17 +99,35 @@ void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
 }
 
-/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 3 vec4
-/// of alpha data per triangle.
+/// A triangle's slab bounds (hx0, hx1, hy0, hy1) of [Wang 2014 §4.2]'s per-item cull, as
+/// gears::pack_triangles computes them (gears/item_cull.hpp): a pixel whose own bounds miss them
+/// cannot be blocked by it. `v`: 3 light-space vertices, stride 4; `sgn`: the side's mirror.
+Vec4 slab_bounds(const float* v, float zmin, float sgn, const gears::FlatLight& light) {
+  constexpr float kRel = 1e-4f, kAbs = 1e-6f;  // item_cull.cpp's widening
+  if (!light.flat || !(zmin > 0.0f)) return Vec4(kInfinity, -kInfinity, kInfinity, -kInfinity);
+  float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
+  for (int c = 0; c < 3; ++c) {
+    const float x = v[4 * c], y = v[4 * c + 1], z = sgn * v[4 * c + 2];
+    hx0 = std::max(hx0, (x - light.lx0) / z), hx1 = std::min(hx1, (x - light.lx1) / z);
+    hy0 = std::max(hy0, (y - light.ly0) / z), hy1 = std::min(hy1, (y - light.ly1) / z);
+  }
+  return Vec4(hx0 + kRel * std::abs(hx0) + kAbs, hx1 - kRel * std::abs(hx1) - kAbs,
+              hy0 + kRel * std::abs(hy0) + kAbs, hy1 - kRel * std::abs(hy1) - kAbs);
+}
+
+/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 4 vec4
+/// per triangle of alpha data, transmittance and the slab bounds.
 struct SideTriangles {
   std::vector<float> tris, alpha;
 };
 
 /// The occluders in order of this side's nearest depth (z mirrored by `side`), ties by id: the
 /// CPU's order [Wang 2014 §4.2, the prefix sum in triangle order], so each cell's list, a stable
-/// sort by cell of the pairs, is in depth order and a pixel's depth cut is a prefix of it.
+/// sort by cell of the pairs, is in depth order and a pixel's depth cut is a prefix of it. Each
+/// triangle also gets its slab bounds for the per-pixel cull (gears::pack_triangles, `flat`: this
+/// side's light).
 SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<float>& alpha,
-                            int side) {
+                            int side, const gears::FlatLight& flat) {
   const size_t count = tris.size() / 12;
   const float sgn = static_cast<float>(side);
   std::vector<float> zmin(count);
@@ -121,12 +140,14 @@ SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<fl
                    [&](uint32_t a, uint32_t b) { return zmin[a] < zmin[b]; });
   SideTriangles out;
   out.tris.resize(tris.size());
-  out.alpha.resize(alpha.size());
+  out.alpha.resize(count * 16);
   for (size_t r = 0; r < count; ++r) {
     const size_t t = order[r];
     std::copy_n(tris.begin() + 12 * t, 12, out.tris.begin() + 12 * r);
-    std::copy_n(alpha.begin() + 12 * t, 12, out.alpha.begin() + 12 * r);
+    std::copy_n(alpha.begin() + 12 * t, 12, out.alpha.begin() + 16 * r);
     out.tris[12 * r + 3] = zmin[t];
+    const Vec4 slab = slab_bounds(&tris[12 * t], zmin[t], sgn, flat);
+    for (int i = 0; i < 4; ++i) out.alpha[16 * r + 12 + i] = slab[i];
   }
   return out;
 }
@@ -184,7 +205,7 @@ class GearsVk final : public ShadowMethod {
     const LightSpace space = make_light_space(light, frame0, toward, +1);
     std::vector<Vec3> p_light(active.size());
     std::vector<float> pix;
-    pix.reserve(active.size() * 16);
+    pix.reserve(active.size() * 20);
     for (size_t a = 0; a < active.size(); ++a) {
       const Vec3 p = space.to_light(g.shadow_origin(active[a]));
       p_light[a] = p;
@@ -202,6 +223,7 @@ class GearsVk final : public ShadowMethod {
         ev = dir(f.edge_v);
       }
       push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
+      push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
     }
     // Occluders in light space, and for alpha-tested ones the texture to test per sample.
     std::vector<float> tris, alpha;
@@ -301,7 +323,6 @@ class GearsVk final : public ShadowMethod {
 
     t0 = std::chrono::steady_clock::now();
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const Buffer pix_buf = vk.upload(pix);
     const Buffer emit_buf = use_rows ? vk.upload(emit_rows) : vk.upload(emit_bits);
     const Buffer texel_buf = vk.upload(texels);
     const Buffer sample_buf = vk.upload(sample_uv);
@@ -347,7 +368,20 @@ class GearsVk final : public ShadowMethod {
       for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
         for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
       const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
-      const SideTriangles sorted = sort_by_depth(tris, alpha, side);
+      // The slab cull's light: the samples' box of a flat light with shared samples (as the
+      // CPU's pass), and each pixel of this side's own bounds.
+      gears::FlatLight flat = flat_light(cam);
+      if (!per_pixel && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
+      for (size_t a = 0; a < active.size(); ++a) {
+        const Vec3& q = p_light[a];
+        if ((side > 0) != (q.z >= 0.0f)) continue;
+        const float z = static_cast<float>(side) * q.z;
+        const ItemBounds b = item_bounds(flat, &q.x, &q.y, &z, 1);
+        float* out = &pix[20 * a + 16];
+        out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
+      }
+      const Buffer pix_buf = vk.upload(pix);
+      const SideTriangles sorted = sort_by_depth(tris, alpha, side, flat);
       const Buffer tri_buf = vk.upload(sorted.tris);
       const Buffer alpha_buf = vk.upload(sorted.alpha);
       const uint32_t cells = static_cast<uint32_t>(cam.cell_count());

@@ -6,9 +6,9 @@
 /// Does alpha-tested triangle t block the light point (su, sv)? The texture decides at the
 /// barycentrics of the sample's ray (the CPU's hit_barycentrics and Texture::texel_index).
 bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, float sv) {
-  const vec4 h = pc.alpha.v[3u * t];
-  const vec4 uv01 = pc.alpha.v[3u * t + 1u];
-  const vec2 uv2 = pc.alpha.v[3u * t + 2u].xy;
+  const vec4 h = pc.alpha.v[4u * t];
+  const vec4 uv01 = pc.alpha.v[4u * t + 1u];
+  const vec2 uv2 = pc.alpha.v[4u * t + 2u].xy;
   precise float e0 = la[0] + lb[0] * su + lc[0] * sv;  // ∝ λ_C
   precise float e1 = la[1] + lb[1] * su + lc[1] * sv;  // ∝ λ_A
   precise float e2 = la[2] + lb[2] * su + lc[2] * sv;  // ∝ λ_B
@@ -24,7 +24,7 @@ bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, fl
 
 /// The transmittance of triangle t's material: 0 for an opaque occluder, which sets mask bits; a
 /// semi-opaque one only scales the transmittance of the samples it covers.
-float transmittance_of(uint t) { return pc.alpha.v[3u * t + 2u].z; }
+float transmittance_of(uint t) { return pc.alpha.v[4u * t + 2u].z; }
 
 /// Semi-opaque occluders: multiplies the transmittance stored (as float bits) at word `at`, as the
 /// CPU multiplies its per-sample transmittance, one layer after another in list order.
@@ -45,11 +45,19 @@ uint depth_prefix_end(uint b0, uint b1, float cut) {
   return lo;
 }
 
+/// The per-pixel slab test (gears/item_cull.hpp may_block; the depth cut is the walk's prefix):
+/// triangle t's slab bounds (hx0, hx1, hy0, hy1) against the pixel's own (ix0, ix1, iy0, iy1).
+bool in_slabs(uint t, vec4 pixel) {
+  const vec4 h = pc.alpha.v[4u * t + 3u];
+  return pixel.x <= h.x && pixel.y >= h.y && pixel.z <= h.z && pixel.w >= h.w;
+}
+
 /// The entries [e0, e1) of a cell list [b0, b1) that dispatch `first` walks, `chunk` at most:
 /// within the pixel's depth prefix (flags & 4) and, deepest first (flags & 2), counted from its
 /// end. False when none are left.
 bool walk_range(uint b0, uint b1, float cut, uint first, uint chunk, uint flags, out uint e0,
                 out uint e1) {
+  if (first >= b1 - b0) return false;
   const uint end = (flags & 4u) != 0u ? depth_prefix_end(b0, b1, cut) : b1;
   if (first >= end - b0) return false;
   if ((flags & 2u) != 0u) {

@@ -18,7 +18,7 @@
 #include "common.glsl"
 
 layout(push_constant) uniform Push {
-  Vec4s pix;   // per active pixel: p, w, eu, ev
+  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds
   Vec4s tris;  // 3 per triangle
   Uints cell;  // per active pixel (~0: other side)
   Uints begin;
@@ -32,10 +32,11 @@ layout(push_constant) uniform Push {
   uint chunk;
   vec2 uv_lo;  // bounding box of the sample positions
   vec2 uv_hi;
-  Vec4s alpha;      // 3 per triangle: (texel offset, width, height, 1 = alpha-tested), uv0 uv1, uv2
+  Vec4s alpha;      // 4 per triangle: (texel offset, width, height, 1 = alpha-tested),
+                    // uv0 uv1, (uv2, transmittance), slab bounds
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   Floats samples;   // light uv of sample s at 2s, 2s + 1
-  uint flags;       // 2: deepest first, 4: the pixel's depth cut
+  uint flags;       // 2: deepest first, 4: the pixel's culls
 } pc;
 
 #include "gears_lines.glsl"
@@ -63,7 +64,7 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans
     flat_line = flat_line || lb[m] == 0.0;
   }
   bool any = false;
-  const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
+  const bool alpha_tested = pc.alpha.v[4u * t].w != 0.0;
   const float transmittance = transmittance_of(t);
   for (int j = j0; j <= j1; ++j) {
     const float jf = float(j);
@@ -104,16 +105,18 @@ void main() {
   const int k = pc.k;
   // The whole vec4 at once: p and the depth cut (w). (Read as .w on its own after .xyz,
   // lavapipe returned x.)
-  const vec4 p_cut = pc.pix.v[4u * a];
+  const vec4 p_cut = pc.pix.v[5u * a];
   const vec3 p = p_cut.xyz;
-  const vec3 w = pc.pix.v[4u * a + 1u].xyz;
-  const vec3 eu = pc.pix.v[4u * a + 2u].xyz;
-  const vec3 ev = pc.pix.v[4u * a + 3u].xyz;
+  const vec3 w = pc.pix.v[5u * a + 1u].xyz;
+  const vec3 eu = pc.pix.v[5u * a + 2u].xyz;
+  const vec3 ev = pc.pix.v[5u * a + 3u].xyz;
   uint e0, e1;
   if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
                   e0, e1))
     return;
   const bool descending = (pc.flags & 2u) != 0u;
+  const bool slab_cull = (pc.flags & 4u) != 0u;
+  const vec4 slab = pc.pix.v[5u * a + 4u];
   const uint base = a * uint(k);
   // Semi-opaque occluders: the pixels' per-sample transmittances follow the rows in rows_out.
   const uint trans_base = pc.n * uint(k) + a * uint(k * k);
@@ -127,6 +130,7 @@ void main() {
   }
   for (uint i = 0u; i < e1 - e0 && !full; ++i) {
     const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
+    if (slab_cull && !in_slabs(t, slab)) continue;
     if (raster_triangle(t, p, w, eu, ev, k, trans_base, rows)) {
       // Every emitting sample blocked: no later triangle can change the mask.
       full = true;
