@@ -21,6 +21,7 @@
 #include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
+#include "penumbra/shadows/gears/lut.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 
 namespace penumbra::gpu {
@@ -165,9 +166,8 @@ SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<fl
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
-    if (o.get_choice("variant") != "edge")
-      throw Error("gears.variant=" + o.get_choice("variant") +
-                  " has no Vulkan path (the GPU rasterizes edge planes)");
+    lut_ = o.get_choice("variant") == "lut";
+    lut_resolution_ = o.get_int("lut_resolution");
     grid_ = o.get_int("grid");
     deepest_first_ = o.get_bool("deepest_first");
     pixel_cull_ = o.get_bool("pixel_cull");
@@ -188,8 +188,10 @@ class GearsVk final : public ShadowMethod {
     const bool per_pixel = ctx.samples.per_pixel();
     // As on the CPU: row spans for the regular grid of shared samples (k ≤ 32), sample by sample
     // otherwise (one sample at the light for a point light).
-    const bool use_rows =
-        ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel && k <= 32 && !point;
+    // The LUT [Wang 2014 §4.3] needs shared sample positions, as on the CPU.
+    const bool use_lut = lut_ && !per_pixel && !point;
+    const bool use_rows = ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel &&
+                          k <= 32 && !point && !use_lut;
     const int ns = point ? 1 : n;
     const uint32_t words = static_cast<uint32_t>((ns + 31) / 32);
     const Texture* emission =
@@ -237,7 +239,9 @@ class GearsVk final : public ShadowMethod {
     }
     // Occluders in light space, and for alpha-tested ones the texture to test per sample.
     std::vector<float> tris, alpha;
-    std::vector<uint32_t> texels;
+    // texels: 4 header words (the LUT's: table offset, angles, offsets, radius; 0: none), then
+    // the alpha textures and the LUT's table.
+    std::vector<uint32_t> texels(4, 0);
     std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
     bool semi_opaque = false;  // some occluder has transmittance > 0
     bool translucent = false;  // some occluder is semi-opaque or alpha-tested
@@ -329,6 +333,17 @@ class GearsVk final : public ShadowMethod {
     // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
     // occluders keep the list's order, so that their products are formed in the CPU's order.
     const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
+    if (use_lut) {
+      const gears::EdgeLut lut(shared, lut_resolution_, lut_resolution_);
+      texels[0] = static_cast<uint32_t>(texels.size());
+      texels[1] = static_cast<uint32_t>(lut.angles());
+      texels[2] = static_cast<uint32_t>(lut.offsets());
+      texels[3] = std::bit_cast<uint32_t>(lut.radius());
+      // 64-bit words as their two 32-bit halves: the same bits, 32-bit word w = sample bits
+      // 32·w … 32·w + 31 as the shader's masks. A row of the table: ⌈n/64⌉ words, 2× as many here.
+      for (uint64_t w : lut.table())
+        texels.insert(texels.end(), {static_cast<uint32_t>(w), static_cast<uint32_t>(w >> 32)});
+    }
     vis.times.add("light_space_setup", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
@@ -586,6 +601,8 @@ class GearsVk final : public ShadowMethod {
  private:
   Backend& backend_;
   int grid_ = 0;
+  bool lut_ = false;
+  int lut_resolution_ = 256;
   bool deepest_first_ = true;
   bool pixel_cull_ = true;
   float eye_distance_ = 1.0f;

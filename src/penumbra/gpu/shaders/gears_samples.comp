@@ -37,6 +37,37 @@ layout(push_constant) uniform Push {
 
 #include "gears_lines.glsl"
 
+const uint kLutAll = 0xffffffffu, kLutNone = 0xfffffffeu;
+
+/// Diamond angle of a direction in [0, 4): monotonic in the true angle (gears/lut.cpp).
+float diamond_angle(float x, float y) {
+  precise float r;
+  if (y >= 0.0) r = x >= 0.0 ? y / (x + y) : 1.0 - x / (-x + y);
+  else r = x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+  return r;
+}
+
+/// gears::EdgeLut::lookup: the offset in texels of the mask of the samples with
+/// a + b·u + c·v ≥ 0 (the line quantized to an (angle, offset) bin), or kLutAll / kLutNone.
+/// texels[1 … 3]: angles, offsets, the samples' radius around (½, ½).
+uint lut_lookup(uint table, float a, float b, float c) {
+  const int angles = int(pc.texels.v[1]), offsets = int(pc.texels.v[2]);
+  const float radius = uintBitsToFloat(pc.texels.v[3]);
+  precise float len = sqrt(b * b + c * c);
+  precise float centre = a + 0.5 * (b + c);
+  if (!(len > 0.0)) return centre >= 0.0 ? kLutAll : kLutNone;
+  precise float rho = centre / len;
+  if (rho >= radius) return kLutAll;
+  if (rho < -radius) return kLutNone;
+  precise float fa = diamond_angle(b, c) * (float(angles) * 0.25);
+  precise float fo = (rho / radius + 1.0) * 0.5 * float(offsets);
+  const int ai = min(angles - 1, int(fa));
+  const int oi = clamp(int(fo), 0, offsets - 1);
+  // A row of the table: ⌈ns / 64⌉ 64-bit words, as 32-bit halves.
+  const uint row = 2u * ((pc.ns + 63u) / 64u);
+  return table + uint(ai * offsets + oi) * row;
+}
+
 void main() {
   const uint a = global_id();
   if (a >= pc.n) return;
@@ -62,6 +93,7 @@ void main() {
   const bool per_pixel = (pc.flags & 1u) != 0u;
   const uint emit_base = per_pixel ? base : 0u;
   const uint sample_base = per_pixel ? 2u * a * pc.ns : 0u;
+  const uint lut_table = pc.texels.v[0];  // the LUT variant: its table's offset in texels
   uint bits[kMaxWords];
   bool full = true;
   for (uint i = 0u; i < pc.words; ++i) {
@@ -79,7 +111,37 @@ void main() {
     const bool alpha_tested = pc.alpha.v[4u * t].w != 0.0;
     const float transmittance = transmittance_of(t);
     bool any = false;
-    for (uint s = 0u; s < pc.ns; ++s) {
+    if (lut_table != 0u) {
+      // [Wang 2014 §4.3]: the samples the triangle covers are the AND of its lines' table masks.
+      uint m[4];
+      bool none = false;
+      [[unroll]] for (int l = 0; l < 4; ++l) {
+        m[l] = lut_lookup(lut_table, la[l], lb[l], lc[l]);
+        none = none || m[l] == kLutNone;
+      }
+      for (uint wi = 0u; wi < pc.words && !none; ++wi) {
+        uint cover = wi + 1u < pc.words || (pc.ns & 31u) == 0u ? ~0u : (1u << (pc.ns & 31u)) - 1u;
+        [[unroll]] for (int l = 0; l < 4; ++l)
+          if (m[l] != kLutAll) cover &= pc.texels.v[m[l] + wi];
+        if (!alpha_tested && !(transmittance > 0.0)) {
+          bits[wi] |= cover;
+          any = any || cover != 0u;
+          continue;
+        }
+        for (; cover != 0u; cover &= cover - 1u) {
+          const uint s = 32u * wi + uint(findLSB(cover));
+          const float su = pc.samples.v[2u * s], sv = pc.samples.v[2u * s + 1u];
+          if (alpha_tested && !alpha_blocks_at(t, la, lb, lc, su, sv)) continue;
+          if (transmittance > 0.0) {
+            attenuate(pc.words_out, trans_base + s, transmittance);
+            continue;
+          }
+          bits[wi] |= 1u << (s & 31u);
+          any = true;
+        }
+      }
+    }
+    for (uint s = 0u; s < pc.ns && lut_table == 0u; ++s) {
       const float su = pc.samples.v[sample_base + 2u * s];
       const float sv = pc.samples.v[sample_base + 2u * s + 1u];
       precise const float h0 = la[0] + lb[0] * su + lc[0] * sv;
