@@ -9,7 +9,7 @@
 
 layout(push_constant) uniform Push {
   GridCamera cam;
-  Vec4s pix;  // per active pixel: p, w, eu, ev, slab bounds (light space); p.w receives the depth cut
+  Vec4s pix;  // per active pixel: p, w, eu, ev, slab bounds (light space); p.w: the depth cut
   Uints cell;
   Uints cell_max_z;  // per cell: bits of the deepest sample's z, + 1 (0: no sample); zero-filled
   uint n;

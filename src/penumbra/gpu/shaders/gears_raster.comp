@@ -9,11 +9,14 @@
 // s = sign(det(A−P, B−P, C−P)), and beyond the triangle's plane; each test is a line in light uv,
 // so no clipping is needed.
 //
+// Each pixel walks the prefix of its cell's list that its depth cut keeps, deepest first, and
+// skips the triangles the CPU's per-pixel tests drop (slabs, shadow box) before their lines.
+//
 // Loops: a dispatch walks at most `chunk` triangles of a cell (the host dispatches the chunks of
 // the longest cell in turn, OR-ing into rows_out): llvmpipe (lavapipe) stops any loop after 65535
 // iterations in total, counting a nested loop's iterations across its enclosing loop's, so
-// chunk × 32 rows × 4 lines stays below that (alpha-tested samples count too: a cell dense in alpha-tested
-// triangles can still reach the limit there).
+// chunk × 32 rows × 4 lines stays below that; with alpha-tested or semi-opaque triangles, whose
+// covered samples are visited one by one, the host takes chunks of 50 000 / (k² + k + 1).
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
