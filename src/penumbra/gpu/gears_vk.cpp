@@ -22,6 +22,7 @@
 #include "penumbra/shadows/gears/grid_camera.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
 #include "penumbra/shadows/gears/lut.hpp"
+#include "penumbra/shadows/gears/solids.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 
 namespace penumbra::gpu {
@@ -126,8 +127,10 @@ Vec4 slab_bounds(const float* v, float zmin, float sgn, const gears::FlatLight& 
               hy0 + kRel * std::abs(hy0) + kAbs, hy1 - kRel * std::abs(hy1) - kAbs);
 }
 
-/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 4 vec4
-/// per triangle of alpha data, transmittance and the slab bounds.
+/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 6 vec4
+/// per triangle: alpha data, transmittance, the slab bounds, the plane test's TrianglePlane (its
+/// solid's index as the last float's bits).
+constexpr size_t kTriInfo = 24;  // floats of alpha and cull data per triangle
 struct SideTriangles {
   std::vector<float> tris, alpha;
 };
@@ -138,7 +141,8 @@ struct SideTriangles {
 /// triangle also gets its slab bounds for the per-pixel cull (gears::pack_triangles, `flat`: this
 /// side's light).
 SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<float>& alpha,
-                            int side, const gears::FlatLight& flat) {
+                            int side, const gears::FlatLight& flat,
+                            const gears::TrianglePlane* planes, const uint32_t* solid) {
   const size_t count = tris.size() / 12;
   const float sgn = static_cast<float>(side);
   std::vector<float> zmin(count);
@@ -151,16 +155,41 @@ SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<fl
                    [&](uint32_t a, uint32_t b) { return zmin[a] < zmin[b]; });
   SideTriangles out;
   out.tris.resize(tris.size());
-  out.alpha.resize(count * 16);
+  out.alpha.resize(count * kTriInfo);
   for (size_t r = 0; r < count; ++r) {
     const size_t t = order[r];
     std::copy_n(tris.begin() + 12 * t, 12, out.tris.begin() + 12 * r);
-    std::copy_n(alpha.begin() + 12 * t, 12, out.alpha.begin() + 16 * r);
+    float* info = &out.alpha[kTriInfo * r];
+    std::copy_n(alpha.begin() + 12 * t, 12, info);
     out.tris[12 * r + 3] = zmin[t];
     const Vec4 slab = slab_bounds(&tris[12 * t], zmin[t], sgn, flat);
-    for (int i = 0; i < 4; ++i) out.alpha[16 * r + 12 + i] = slab[i];
+    for (int i = 0; i < 4; ++i) info[12 + i] = slab[i];
+    // No plane data: a plane no sample is strictly on either side of.
+    const gears::TrianglePlane pl =
+        planes ? planes[t] : gears::TrianglePlane{0, 0, 0, 0, 0, -kInfinity, kInfinity, 0};
+    const float plane[8] = {
+        pl.nx, pl.ny,   pl.nz,   pl.d,
+        pl.n1, pl.lmin, pl.lmax, std::bit_cast<float>(solid ? solid[t] : gears::kNoSolid)};
+    std::copy_n(plane, 8, info + 16);
   }
   return out;
+}
+
+/// The occluders as the CPU's TriangleSoup (light space, the same order: shadow-casting meshes in
+/// order, each one's triangles in order), for its plane and solid culls.
+gears::TriangleSoup soup_of(const std::vector<float>& tris, const std::vector<uint32_t>& mesh,
+                            const std::vector<uint32_t>& prim, const std::vector<uint8_t>& opaque) {
+  gears::TriangleSoup soup;
+  soup.resize(mesh.size());
+  for (size_t t = 0; t < mesh.size(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      soup.x[c][t] = tris[12 * t + 4 * c];
+      soup.y[c][t] = tris[12 * t + 4 * c + 1];
+      soup.z[c][t] = tris[12 * t + 4 * c + 2];
+    }
+    soup.mesh[t] = mesh[t], soup.prim[t] = prim[t], soup.opaque[t] = opaque[t];
+  }
+  return soup;
 }
 
 class GearsVk final : public ShadowMethod {
@@ -171,7 +200,15 @@ class GearsVk final : public ShadowMethod {
     grid_ = o.get_int("grid");
     deepest_first_ = o.get_bool("deepest_first");
     pixel_cull_ = o.get_bool("pixel_cull");
+    solid_cull_ = o.get_bool("solid_cull");
     eye_distance_ = static_cast<float>(o.get_real("eye_distance"));
+  }
+
+  /// The closed components of the scene's opaque meshes, as the CPU's prepare.
+  void prepare(const Scene& scene) override {
+    if (!solid_cull_) return;
+    components_ = gears::find_closed_components(scene);
+    prepared_ = true;
   }
 
   Visibility compute(const ShadowContext& ctx) override {
@@ -243,6 +280,8 @@ class GearsVk final : public ShadowMethod {
     // the alpha textures and the LUT's table.
     std::vector<uint32_t> texels(4, 0);
     std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
+    std::vector<uint32_t> tri_mesh, tri_prim;  // each triangle's mesh and index in it
+    std::vector<uint8_t> tri_opaque;
     bool semi_opaque = false;  // some occluder has transmittance > 0
     bool translucent = false;  // some occluder is semi-opaque or alpha-tested
     for (const Mesh& mesh : ctx.scene.meshes) {
@@ -267,6 +306,9 @@ class GearsVk final : public ShadowMethod {
       }
       for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         for (int c = 0; c < 3; ++c) push4(tris, space.to_light(mesh.vertex(t, c)));
+        tri_mesh.push_back(static_cast<uint32_t>(&mesh - ctx.scene.meshes.data()));
+        tri_prim.push_back(static_cast<uint32_t>(t));
+        tri_opaque.push_back(mat.is_opaque() ? 1 : 0);
         alpha.insert(alpha.end(), header, header + 4);
         Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
         if (tex && !mesh.uvs.empty())
@@ -276,6 +318,20 @@ class GearsVk final : public ShadowMethod {
       }
     }
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
+    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
+    // certified outside of (pix: the w of its w and eu vectors, as two 32-bit halves).
+    const gears::TriangleSoup soup =
+        pixel_cull_ ? soup_of(tris, tri_mesh, tri_prim, tri_opaque) : gears::TriangleSoup{};
+    gears::Solids solids;
+    if (pixel_cull_ && solid_cull_) {
+      if (!prepared_) prepare(ctx.scene);
+      solids = find_solids(components_, soup);
+      for (size_t a = 0; a < active.size(); ++a) {
+        const uint64_t outside = solids.outside(p_light[a]);
+        pix[20 * a + 7] = std::bit_cast<float>(static_cast<uint32_t>(outside));
+        pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
+      }
+    }
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
     const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
@@ -406,7 +462,12 @@ class GearsVk final : public ShadowMethod {
         out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
       }
       const Buffer pix_buf = vk.upload(pix);
-      const SideTriangles sorted = sort_by_depth(tris, alpha, side, flat);
+      const UninitVector<TrianglePlane> planes =
+          pixel_cull_ ? triangle_planes(soup, plane_test_corners(flat, cam))
+                      : UninitVector<TrianglePlane>{};
+      const SideTriangles sorted =
+          sort_by_depth(tris, alpha, side, flat, pixel_cull_ ? planes.data() : nullptr,
+                        solids.count() > 0 ? solids.of_triangle.data() : nullptr);
       const Buffer tri_buf = vk.upload(sorted.tris);
       const Buffer alpha_buf = vk.upload(sorted.alpha);
       const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
@@ -605,6 +666,9 @@ class GearsVk final : public ShadowMethod {
   int lut_resolution_ = 256;
   bool deepest_first_ = true;
   bool pixel_cull_ = true;
+  bool solid_cull_ = true;
+  bool prepared_ = false;
+  gears::SolidComponents components_;  // the scene's closed components (solid cull)
   float eye_distance_ = 1.0f;
 };
 

@@ -3,12 +3,16 @@
 // test at a sample, the CPU's arithmetic (shadows/gears/raster.cpp) operation for operation.
 // Expects a push-constant block `pc` with `tris`, `vals`, `alpha` and `texels`.
 
+// max/min as the CPU's vector code writes them (a NaN operand picks b).
+float vmax(float a, float b) { return a > b ? a : b; }
+float vmin(float a, float b) { return a < b ? a : b; }
+
 /// Does alpha-tested triangle t block the light point (su, sv)? The texture decides at the
 /// barycentrics of the sample's ray (the CPU's hit_barycentrics and Texture::texel_index).
 bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, float sv) {
-  const vec4 h = pc.alpha.v[4u * t];
-  const vec4 uv01 = pc.alpha.v[4u * t + 1u];
-  const vec2 uv2 = pc.alpha.v[4u * t + 2u].xy;
+  const vec4 h = pc.alpha.v[6u * t];
+  const vec4 uv01 = pc.alpha.v[6u * t + 1u];
+  const vec2 uv2 = pc.alpha.v[6u * t + 2u].xy;
   precise float e0 = la[0] + lb[0] * su + lc[0] * sv;  // ∝ λ_C
   precise float e1 = la[1] + lb[1] * su + lc[1] * sv;  // ∝ λ_A
   precise float e2 = la[2] + lb[2] * su + lc[2] * sv;  // ∝ λ_B
@@ -24,7 +28,7 @@ bool alpha_blocks_at(uint t, float la[4], float lb[4], float lc[4], float su, fl
 
 /// The transmittance of triangle t's material: 0 for an opaque occluder, which sets mask bits; a
 /// semi-opaque one only scales the transmittance of the samples it covers.
-float transmittance_of(uint t) { return pc.alpha.v[4u * t + 2u].z; }
+float transmittance_of(uint t) { return pc.alpha.v[6u * t + 2u].z; }
 
 /// Semi-opaque occluders: multiplies the transmittance stored (as float bits) at word `at`, as the
 /// CPU multiplies its per-sample transmittance, one layer after another in list order.
@@ -48,8 +52,24 @@ uint depth_prefix_end(uint b0, uint b1, float cut) {
 /// The per-pixel slab test (gears/item_cull.hpp may_block; the depth cut is the walk's prefix):
 /// triangle t's slab bounds (hx0, hx1, hy0, hy1) against the pixel's own (ix0, ix1, iy0, iy1).
 bool in_slabs(uint t, vec4 pixel) {
-  const vec4 h = pc.alpha.v[4u * t + 3u];
+  const vec4 h = pc.alpha.v[6u * t + 3u];
   return pixel.x <= h.x && pixel.y >= h.y && pixel.z <= h.z && pixel.w >= h.w;
+}
+
+/// The CPU's separating-plane and solid tests (CandidateBatch::keep; gears/item_cull.hpp
+/// TrianglePlane, gears/solids.hpp): triangle t cannot block pixel point p when p and every light
+/// point lie strictly on one side of its plane, nor when it is a face of a solid that p is
+/// certified outside of (`outside`: one bit per solid) and p lies strictly behind it.
+bool plane_keeps(uint t, vec3 p, uvec2 outside) {
+  const vec4 n = pc.alpha.v[6u * t + 4u];  // nx, ny, nz, d
+  const vec4 e = pc.alpha.v[6u * t + 5u];  // |n|₁, lmin, lmax, the solid's index bits
+  precise float side = n.x * p.x + n.y * p.y + n.z * p.z - n.w;
+  const float p_inf = max(abs(p.x), max(abs(p.y), abs(p.z)));
+  precise float tol = 1e-5 * (e.x * p_inf + vmax(n.w, -n.w));  // kPlaneRel
+  const uint s = floatBitsToUint(e.w);
+  const uint word = s < 32u ? outside.x : s < 64u ? outside.y : 0u;
+  const bool behind_solid = ((word >> (s & 31u)) & 1u) != 0u;
+  return !((side > tol && e.y > 0.0) || (side < -tol && (e.z < 0.0 || behind_solid)));
 }
 
 /// The entries [e0, e1) of a cell list [b0, b1) that dispatch `first` walks, `chunk` at most:
@@ -69,10 +89,6 @@ bool walk_range(uint b0, uint b1, float cut, uint first, uint chunk, uint flags,
   }
   return true;
 }
-
-// max/min as the CPU's vector code writes them (a NaN operand picks b).
-float vmax(float a, float b) { return a > b ? a : b; }
-float vmin(float a, float b) { return a < b ? a : b; }
 
 /// The CPU's shadow-box test (shadows/gears/raster.cpp shadow_box_holds_samples), for a light
 /// whose uv is light-space xy (eu = x, ev = y: rect and disk lights). When the three vertices lie

@@ -21,7 +21,7 @@
 #include "common.glsl"
 
 layout(push_constant) uniform Push {
-  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds
+  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds (w.w, eu.w: solids outside)
   Vec4s tris;  // 3 per triangle
   Uints cell;  // per active pixel (~0: other side)
   Uints begin;
@@ -35,8 +35,8 @@ layout(push_constant) uniform Push {
   uint chunk;
   vec2 uv_lo;  // bounding box of the sample positions
   vec2 uv_hi;
-  Vec4s alpha;      // 4 per triangle: (texel offset, width, height, 1 = alpha-tested),
-                    // uv0 uv1, (uv2, transmittance), slab bounds
+  Vec4s alpha;      // 6 per triangle: (texel offset, width, height, 1 = alpha-tested),
+                    // uv0 uv1, (uv2, transmittance), slab bounds, plane (2)
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   Floats samples;   // light uv of sample s at 2s, 2s + 1
   uint flags;       // 2: deepest first, 4: the pixel's culls
@@ -67,7 +67,7 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans
     flat_line = flat_line || lb[m] == 0.0;
   }
   bool any = false;
-  const bool alpha_tested = pc.alpha.v[4u * t].w != 0.0;
+  const bool alpha_tested = pc.alpha.v[6u * t].w != 0.0;
   const float transmittance = transmittance_of(t);
   for (int j = j0; j <= j1; ++j) {
     const float jf = float(j);
@@ -110,8 +110,10 @@ void main() {
   // lavapipe returned x.)
   const vec4 p_cut = pc.pix.v[5u * a];
   const vec3 p = p_cut.xyz;
-  const vec3 w = pc.pix.v[5u * a + 1u].xyz;
-  const vec3 eu = pc.pix.v[5u * a + 2u].xyz;
+  const vec4 w_out = pc.pix.v[5u * a + 1u], eu_out = pc.pix.v[5u * a + 2u];
+  const vec3 w = w_out.xyz, eu = eu_out.xyz;
+  // The solids the pixel is certified outside of (the plane test's solid cull).
+  const uvec2 outside = uvec2(floatBitsToUint(w_out.w), floatBitsToUint(eu_out.w));
   const vec3 ev = pc.pix.v[5u * a + 3u].xyz;
   uint e0, e1;
   if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
@@ -133,7 +135,7 @@ void main() {
   }
   for (uint i = 0u; i < e1 - e0 && !full; ++i) {
     const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
-    if (slab_cull && !in_slabs(t, slab)) continue;
+    if (slab_cull && !(in_slabs(t, slab) && plane_keeps(t, p, outside))) continue;
     if (raster_triangle(t, p, w, eu, ev, k, trans_base, rows)) {
       // Every emitting sample blocked: no later triangle can change the mask.
       full = true;

@@ -13,7 +13,7 @@
 const int kMaxWords = 128;  // 64 × 64 samples
 
 layout(push_constant) uniform Push {
-  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds
+  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds (w.w, eu.w: solids outside)
   Vec4s tris;  // 3 per triangle
   Uints cell;  // per active pixel (~0: other side)
   Uints begin;
@@ -22,8 +22,8 @@ layout(push_constant) uniform Push {
   Uints words_out;  // `words` per active pixel, then (semi-opaque scenes) ns floats per pixel
   Uints emit;       // `words` (shared) or `words` per active pixel (per_pixel)
   Floats samples;   // light uv of sample s at 2s, 2s + 1 (shared) or per active pixel (per_pixel)
-  Vec4s alpha;      // 4 per triangle: (texel offset, width, height, 1 = alpha-tested),
-                    // uv0 uv1, (uv2, transmittance), slab bounds
+  Vec4s alpha;      // 6 per triangle: (texel offset, width, height, 1 = alpha-tested),
+                    // uv0 uv1, (uv2, transmittance), slab bounds, plane (2)
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   uint n;
   uint ns;     // samples tested (1 for a point light)
@@ -77,8 +77,10 @@ void main() {
   // lavapipe returned x.)
   const vec4 p_cut = pc.pix.v[5u * a];
   const vec3 p = p_cut.xyz;
-  const vec3 w = pc.pix.v[5u * a + 1u].xyz;
-  const vec3 eu = pc.pix.v[5u * a + 2u].xyz;
+  const vec4 w_out = pc.pix.v[5u * a + 1u], eu_out = pc.pix.v[5u * a + 2u];
+  const vec3 w = w_out.xyz, eu = eu_out.xyz;
+  // The solids the pixel is certified outside of (the plane test's solid cull).
+  const uvec2 outside = uvec2(floatBitsToUint(w_out.w), floatBitsToUint(eu_out.w));
   const vec3 ev = pc.pix.v[5u * a + 3u].xyz;
   uint e0, e1;
   if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
@@ -103,12 +105,12 @@ void main() {
   }
   for (uint i = 0u; i < e1 - e0 && !full; ++i) {
     const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
-    if (slab_cull && !in_slabs(t, slab)) continue;
+    if (slab_cull && !(in_slabs(t, slab) && plane_keeps(t, p, outside))) continue;
     int j0, j1;
     if (!shadow_box(t, p, eu, ev, 0, pc.uv_lo, pc.uv_hi, j0, j1)) continue;
     float la[4], lb[4], lc[4];
     if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) continue;
-    const bool alpha_tested = pc.alpha.v[4u * t].w != 0.0;
+    const bool alpha_tested = pc.alpha.v[6u * t].w != 0.0;
     const float transmittance = transmittance_of(t);
     bool any = false;
     if (lut_table != 0u) {
