@@ -186,13 +186,18 @@ TEST(VulkanGears, SemiOpaqueOccludersDiskAndSphereLights) {
         shape == LightShape::disk ? "semi-opaque disk light" : "semi-opaque sphere light", 100);
 }
 
-/// The per-sample rasterizer's transmittances: an irregular pattern and a point light.
+/// The per-sample rasterizer's transmittances: an irregular shared pattern, a per-pixel one and a
+/// point light.
 TEST(VulkanGears, SemiOpaqueOccludersPerSample) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
   check_semi_opaque(backend,
                     make_test_frame(glass_spheres(make_builtin_scene("spheres")), 32, 32,
                                     test::sample_spec(SamplePattern::halton, 8, 5)),
                     "semi-opaque halton", 100);
+  check_semi_opaque(backend,
+                    make_test_frame(glass_spheres(make_builtin_scene("spheres")), 32, 32,
+                                    test::sample_spec(SamplePattern::decorrelated, 8, 5)),
+                    "semi-opaque decorrelated", 100);
   Scene point = glass_spheres(make_builtin_scene("spheres"));
   point.lights[0].shape = LightShape::point;
   check_semi_opaque(backend, make_test_frame(std::move(point), 32, 32, grid_samples(2)),
