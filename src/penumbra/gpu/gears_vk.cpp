@@ -72,7 +72,7 @@ struct RasterPush {
   uint32_t first, chunk;  // this dispatch's part of each cell's list
   float uv_lo[2], uv_hi[2];
   VkDeviceAddress alpha, texels, samples;
-  uint32_t flags;  // 2: deepest first, 4: the pixel's culls
+  uint32_t flags;  // 2: deepest first, 4: the pixel's culls, 8: the hidden-shadow test
 };
 static_assert(sizeof(RasterPush) == 128);
 struct SamplesPush {
@@ -201,6 +201,7 @@ class GearsVk final : public ShadowMethod {
     deepest_first_ = o.get_bool("deepest_first");
     pixel_cull_ = o.get_bool("pixel_cull");
     solid_cull_ = o.get_bool("solid_cull");
+    hidden_cull_ = o.get_bool("hidden_cull");
     eye_distance_ = static_cast<float>(o.get_real("eye_distance"));
   }
 
@@ -593,7 +594,8 @@ class GearsVk final : public ShadowMethod {
                               alpha_buf.address(),
                               texel_buf.address(),
                               sample_buf.address(),
-                              (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u)};
+                              (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u) |
+                                  (pixel_cull_ && hidden_cull_ ? 8u : 0u)};
           raster.dispatch(programs.get(Shader::gears_raster), rp, na);
           raster.barrier();
         }
@@ -667,6 +669,7 @@ class GearsVk final : public ShadowMethod {
   bool deepest_first_ = true;
   bool pixel_cull_ = true;
   bool solid_cull_ = true;
+  bool hidden_cull_ = true;
   bool prepared_ = false;
   gears::SolidComponents components_;  // the scene's closed components (solid cull)
   float eye_distance_ = 1.0f;

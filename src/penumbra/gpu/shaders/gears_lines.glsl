@@ -96,11 +96,12 @@ bool walk_range(uint b0, uint b1, float cut, uint first, uint chunk, uint flags,
 /// of their projections from p, so its uv bounding box must overlap the sample box [uv_lo, uv_hi]
 /// and, on a k×k grid (k > 0), hold a sample centre ((i + ½)/k, (j + ½)/k), the box widened by
 /// 10⁻⁴ light widths (far above the projections' rounding, so the lines still decide every sample
-/// near an edge). False when it cannot cover a sample; rows [j0, j1] hold all it can cover.
-bool shadow_box(uint t, vec3 p, vec3 eu, vec3 ev, int k, vec2 uv_lo, vec2 uv_hi, out int j0,
-                out int j1) {
-  j0 = 0;
-  j1 = k - 1;
+/// near an edge). False when it cannot cover a sample; columns box.x … box.y and rows box.z …
+/// box.w hold all it can cover (`boxed`: that box was computed; else the whole grid).
+bool shadow_box(uint t, vec3 p, vec3 eu, vec3 ev, int k, vec2 uv_lo, vec2 uv_hi, out ivec4 box,
+                out bool boxed) {
+  box = ivec4(0, k - 1, 0, k - 1);
+  boxed = false;
   if (eu != vec3(1.0, 0.0, 0.0) || ev != vec3(0.0, 1.0, 0.0)) return true;
   precise vec3 A = pc.tris.v[3u * t].xyz - p;
   precise vec3 B = pc.tris.v[3u * t + 1u].xyz - p;
@@ -121,8 +122,10 @@ bool shadow_box(uint t, vec3 p, vec3 eu, vec3 ev, int k, vec2 uv_lo, vec2 uv_hi,
   precise float b0 = kf * v0 - 0.5 - slack, b1 = kf * v1 - 0.5 + slack;
   const int i0 = max(int(ceil(vmin(vmax(a0, -2.0), kf + 1.0))), 0);
   const int i1 = min(int(floor(vmin(vmax(a1, -2.0), kf + 1.0))), k - 1);
-  j0 = max(int(ceil(vmin(vmax(b0, -2.0), kf + 1.0))), 0);
-  j1 = min(int(floor(vmin(vmax(b1, -2.0), kf + 1.0))), k - 1);
+  const int j0 = max(int(ceil(vmin(vmax(b0, -2.0), kf + 1.0))), 0);
+  const int j1 = min(int(floor(vmin(vmax(b1, -2.0), kf + 1.0))), k - 1);
+  box = ivec4(i0, i1, j0, j1);
+  boxed = true;
   return i0 <= i1 && j0 <= j1;
 }
 

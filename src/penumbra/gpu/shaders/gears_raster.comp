@@ -39,7 +39,7 @@ layout(push_constant) uniform Push {
                     // uv0 uv1, (uv2, transmittance), slab bounds, plane (2)
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   Floats samples;   // light uv of sample s at 2s, 2s + 1
-  uint flags;       // 2: deepest first, 4: the pixel's culls
+  uint flags;       // 2: deepest first, 4: the pixel's culls, 8: the hidden-shadow test
 } pc;
 
 #include "gears_lines.glsl"
@@ -50,8 +50,18 @@ layout(push_constant) uniform Push {
 bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans_base,
                      inout uint rows[32]) {
   const float kf = float(k);
-  int j0, j1;
-  if (!shadow_box(t, p, eu, ev, k, pc.uv_lo, pc.uv_hi, j0, j1)) return false;
+  ivec4 box;
+  bool boxed;
+  if (!shadow_box(t, p, eu, ev, k, pc.uv_lo, pc.uv_hi, box, boxed)) return false;
+  const int j0 = box.z, j1 = box.w;
+  if (boxed && (pc.flags & 8u) != 0u) {
+    // The CPU's hidden-shadow test: a shadow whose box holds only samples already blocked
+    // changes nothing (a semi-opaque layer over them neither: their V is 0).
+    const uint need = (2u << uint(box.y)) - (1u << uint(box.x));  // i1 = 31: 2 << 31 wraps to 0
+    bool hidden = true;
+    for (int j = j0; j <= j1; ++j) hidden = hidden && (rows[j] & need) == need;
+    if (hidden) return false;
+  }
   float la[4], lb[4], lc[4];
   if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) return false;
   // Row-span form in sample-index space (sample (i, j) at ((i + ½)/k, (j + ½)/k)): line m is

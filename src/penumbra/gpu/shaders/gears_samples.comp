@@ -106,8 +106,9 @@ void main() {
   for (uint i = 0u; i < e1 - e0 && !full; ++i) {
     const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
     if (slab_cull && !(in_slabs(t, slab) && plane_keeps(t, p, outside))) continue;
-    int j0, j1;
-    if (!shadow_box(t, p, eu, ev, 0, pc.uv_lo, pc.uv_hi, j0, j1)) continue;
+    ivec4 box;
+    bool boxed;
+    if (!shadow_box(t, p, eu, ev, 0, pc.uv_lo, pc.uv_hi, box, boxed)) continue;
     float la[4], lb[4], lc[4];
     if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) continue;
     const bool alpha_tested = pc.alpha.v[6u * t].w != 0.0;
