@@ -175,19 +175,69 @@ SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<fl
   return out;
 }
 
-/// The occluders as the CPU's TriangleSoup (light space, the same order: shadow-casting meshes in
-/// order, each one's triangles in order), for its plane and solid culls.
-gears::TriangleSoup soup_of(const std::vector<float>& tris, const std::vector<uint32_t>& mesh,
-                            const std::vector<uint32_t>& prim, const std::vector<uint8_t>& opaque) {
-  gears::TriangleSoup soup;
-  soup.resize(mesh.size());
-  for (size_t t = 0; t < mesh.size(); ++t) {
-    for (int c = 0; c < 3; ++c) {
-      soup.x[c][t] = tris[12 * t + 4 * c];
-      soup.y[c][t] = tris[12 * t + 4 * c + 1];
-      soup.z[c][t] = tris[12 * t + 4 * c + 2];
+/// The shadow-casting triangles in light space (3 vec4 each) and 3 vec4 of alpha data each
+/// (texel offset, width, height, 1 = alpha-tested; uv0, uv1; uv2, transmittance), in the CPU's
+/// order: shadow-casting meshes in order, each one's triangles in order.
+struct Occluders {
+  std::vector<float> tris, alpha;
+  // 4 header words (the LUT's: table offset, angles, offsets, radius; 0: none), then the alpha
+  // textures (1 where the texel blocks) and the LUT's table.
+  std::vector<uint32_t> texels = std::vector<uint32_t>(4, 0);
+  std::vector<uint32_t> mesh, prim;  // each triangle's mesh and index in it
+  std::vector<uint8_t> opaque;
+  bool semi_opaque = false;  // some occluder has transmittance > 0
+  bool translucent = false;  // some occluder is semi-opaque or alpha-tested
+};
+
+Occluders gather_occluders(const Scene& scene, const gears::LightSpace& space) {
+  Occluders o;
+  std::vector<int> texel_offset(scene.textures.size(), -1);
+  for (const Mesh& mesh : scene.meshes) {
+    if (!mesh.casts_shadows) continue;
+    const Material& mat = scene.material_of(mesh);
+    o.semi_opaque |= mat.transmittance > 0.0f;
+    o.translucent |= mat.transmittance > 0.0f || mat.alpha_texture >= 0;
+    const Texture* tex = mat.alpha_texture >= 0 ? &scene.textures[mat.alpha_texture] : nullptr;
+    float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    if (tex) {
+      int& offset = texel_offset[mat.alpha_texture];
+      if (offset < 0) {
+        offset = static_cast<int>(o.texels.size());
+        for (int y = 0; y < tex->height; ++y)
+          for (int x = 0; x < tex->width; ++x)
+            o.texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
+      }
+      header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
+      header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
+      header[3] = 1.0f;
     }
-    soup.mesh[t] = mesh[t], soup.prim[t] = prim[t], soup.opaque[t] = opaque[t];
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      for (int c = 0; c < 3; ++c) push4(o.tris, space.to_light(mesh.vertex(t, c)));
+      o.mesh.push_back(static_cast<uint32_t>(&mesh - scene.meshes.data()));
+      o.prim.push_back(static_cast<uint32_t>(t));
+      o.opaque.push_back(mat.is_opaque() ? 1 : 0);
+      o.alpha.insert(o.alpha.end(), header, header + 4);
+      Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
+      if (tex && !mesh.uvs.empty())
+        for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
+      o.alpha.insert(o.alpha.end(), {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y,
+                                     mat.transmittance, 0.0f});
+    }
+  }
+  return o;
+}
+
+/// The occluders as the CPU's TriangleSoup, for its plane and solid culls.
+gears::TriangleSoup soup_of(const Occluders& o) {
+  gears::TriangleSoup soup;
+  soup.resize(o.mesh.size());
+  for (size_t t = 0; t < o.mesh.size(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      soup.x[c][t] = o.tris[12 * t + 4 * c];
+      soup.y[c][t] = o.tris[12 * t + 4 * c + 1];
+      soup.z[c][t] = o.tris[12 * t + 4 * c + 2];
+    }
+    soup.mesh[t] = o.mesh[t], soup.prim[t] = o.prim[t], soup.opaque[t] = o.opaque[t];
   }
   return soup;
 }
@@ -275,54 +325,15 @@ class GearsVk final : public ShadowMethod {
       push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
       push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
     }
-    // Occluders in light space, and for alpha-tested ones the texture to test per sample.
-    std::vector<float> tris, alpha;
-    // texels: 4 header words (the LUT's: table offset, angles, offsets, radius; 0: none), then
-    // the alpha textures and the LUT's table.
-    std::vector<uint32_t> texels(4, 0);
-    std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
-    std::vector<uint32_t> tri_mesh, tri_prim;  // each triangle's mesh and index in it
-    std::vector<uint8_t> tri_opaque;
-    bool semi_opaque = false;  // some occluder has transmittance > 0
-    bool translucent = false;  // some occluder is semi-opaque or alpha-tested
-    for (const Mesh& mesh : ctx.scene.meshes) {
-      if (!mesh.casts_shadows) continue;
-      const Material& mat = ctx.scene.material_of(mesh);
-      semi_opaque |= mat.transmittance > 0.0f;
-      translucent |= mat.transmittance > 0.0f || mat.alpha_texture >= 0;
-      const Texture* tex =
-          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
-      float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-      if (tex) {
-        int& offset = texel_offset[mat.alpha_texture];
-        if (offset < 0) {
-          offset = static_cast<int>(texels.size());
-          for (int y = 0; y < tex->height; ++y)
-            for (int x = 0; x < tex->width; ++x)
-              texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
-        }
-        header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
-        header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
-        header[3] = 1.0f;
-      }
-      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-        for (int c = 0; c < 3; ++c) push4(tris, space.to_light(mesh.vertex(t, c)));
-        tri_mesh.push_back(static_cast<uint32_t>(&mesh - ctx.scene.meshes.data()));
-        tri_prim.push_back(static_cast<uint32_t>(t));
-        tri_opaque.push_back(mat.is_opaque() ? 1 : 0);
-        alpha.insert(alpha.end(), header, header + 4);
-        Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
-        if (tex && !mesh.uvs.empty())
-          for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
-        alpha.insert(alpha.end(), {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y,
-                                   mat.transmittance, 0.0f});
-      }
-    }
+    Occluders occ = gather_occluders(ctx.scene, space);
+    const std::vector<float>& tris = occ.tris;
+    const std::vector<float>& alpha = occ.alpha;
+    std::vector<uint32_t>& texels = occ.texels;
+    const bool semi_opaque = occ.semi_opaque, translucent = occ.translucent;
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
     // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
     // certified outside of (pix: the w of its w and eu vectors, as two 32-bit halves).
-    const gears::TriangleSoup soup =
-        pixel_cull_ ? soup_of(tris, tri_mesh, tri_prim, tri_opaque) : gears::TriangleSoup{};
+    const gears::TriangleSoup soup = pixel_cull_ ? soup_of(occ) : gears::TriangleSoup{};
     gears::Solids solids;
     if (pixel_cull_ && solid_cull_) {
       if (!prepared_) prepare(ctx.scene);
