@@ -242,6 +242,31 @@ gears::TriangleSoup soup_of(const Occluders& o) {
   return soup;
 }
 
+/// One side's cull data: the slab cull's light (for a flat light with shared samples, their box,
+/// as the CPU's pass), the side's pixels' own slab bounds (pix's fifth vec4), and the triangles
+/// in depth order with their slab bounds, planes (`soup`: none without the per-pixel culls) and
+/// solids.
+SideTriangles side_cull_data(const gears::GridCamera& cam, int side, bool shrink, Vec2 uv_lo,
+                             Vec2 uv_hi, const std::vector<Vec3>& p_light, std::vector<float>& pix,
+                             const Occluders& occ, const gears::TriangleSoup* soup,
+                             const gears::Solids& solids) {
+  gears::FlatLight flat = gears::flat_light(cam);
+  if (shrink) flat = gears::shrink_to_samples(flat, uv_lo, uv_hi);
+  for (size_t a = 0; a < p_light.size(); ++a) {
+    const Vec3& q = p_light[a];
+    if ((side > 0) != (q.z >= 0.0f)) continue;
+    const float z = static_cast<float>(side) * q.z;
+    const gears::ItemBounds b = gears::item_bounds(flat, &q.x, &q.y, &z, 1);
+    float* out = &pix[20 * a + 16];
+    out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
+  }
+  const UninitVector<gears::TrianglePlane> planes =
+      soup ? gears::triangle_planes(*soup, gears::plane_test_corners(flat, cam))
+           : UninitVector<gears::TrianglePlane>{};
+  return sort_by_depth(occ.tris, occ.alpha, side, flat, soup ? planes.data() : nullptr,
+                       solids.count() > 0 ? solids.of_triangle.data() : nullptr);
+}
+
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
@@ -327,7 +352,6 @@ class GearsVk final : public ShadowMethod {
     }
     Occluders occ = gather_occluders(ctx.scene, space);
     const std::vector<float>& tris = occ.tris;
-    const std::vector<float>& alpha = occ.alpha;
     std::vector<uint32_t>& texels = occ.texels;
     const bool semi_opaque = occ.semi_opaque, translucent = occ.translucent;
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
@@ -461,25 +485,10 @@ class GearsVk final : public ShadowMethod {
       for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
         for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
       const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
-      // The slab cull's light: the samples' box of a flat light with shared samples (as the
-      // CPU's pass), and each pixel of this side's own bounds.
-      gears::FlatLight flat = flat_light(cam);
-      if (!per_pixel && !point && !sphere) flat = shrink_to_samples(flat, uv_lo, uv_hi);
-      for (size_t a = 0; a < active.size(); ++a) {
-        const Vec3& q = p_light[a];
-        if ((side > 0) != (q.z >= 0.0f)) continue;
-        const float z = static_cast<float>(side) * q.z;
-        const ItemBounds b = item_bounds(flat, &q.x, &q.y, &z, 1);
-        float* out = &pix[20 * a + 16];
-        out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
-      }
-      const Buffer pix_buf = vk.upload(pix);
-      const UninitVector<TrianglePlane> planes =
-          pixel_cull_ ? triangle_planes(soup, plane_test_corners(flat, cam))
-                      : UninitVector<TrianglePlane>{};
       const SideTriangles sorted =
-          sort_by_depth(tris, alpha, side, flat, pixel_cull_ ? planes.data() : nullptr,
-                        solids.count() > 0 ? solids.of_triangle.data() : nullptr);
+          side_cull_data(cam, side, !per_pixel && !point && !sphere, uv_lo, uv_hi, p_light, pix,
+                         occ, pixel_cull_ ? &soup : nullptr, solids);
+      const Buffer pix_buf = vk.upload(pix);
       const Buffer tri_buf = vk.upload(sorted.tris);
       const Buffer alpha_buf = vk.upload(sorted.alpha);
       const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
