@@ -1,11 +1,14 @@
 // `gears` on Vulkan: the pipeline of [Wang 2014 §4.2] in compute shaders, on the frame's G-buffer
 // and light samples (uploaded once per light):
 //   host:  light space and the grid camera C (gears::make_light_space / make_grid_camera, the CPU
-//          method's own construction, so both use the same grid);
+//          method's own construction; a finer default grid than the CPU's); per side, the
+//          triangles in the CPU's depth order with the CPU's per-pixel cull data;
 //   GPU:   pixel → cell (gears_cells), triangle → cells count (gears_count), exclusive prefix sum,
 //          write of the (cell, triangle) pairs (gears_write), radix sort by cell (radix_*),
 //          begin/end per cell (gears_ranges), per-pixel edge-plane rasterization onto the k×k
-//          bitmask, one 32-bit word per row (gears_raster);
+//          bitmask, one 32-bit word per row (gears_raster) or sample by sample, or by the LUT
+//          [Wang 2014 §4.3] (gears_samples), after the CPU's per-pixel culls; semi-opaque
+//          occluders scale per-sample transmittances instead of setting bits;
 //   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
 // Three submissions per side of the light plane: the pair count is read back to size the pair
 // buffers, and the longest cell to size the rasterization's chunks.
