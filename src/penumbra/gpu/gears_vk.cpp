@@ -1,14 +1,18 @@
 // `gears` on Vulkan: the pipeline of [Wang 2014 §4.2] in compute shaders, on the frame's G-buffer
 // and light samples (uploaded once per light):
 //   host:  light space and the grid camera C (gears::make_light_space / make_grid_camera, the CPU
-//          method's own construction, so both use the same grid);
+//          method's own construction; a finer default grid than the CPU's); per side, the
+//          triangles in the CPU's depth order with the CPU's per-pixel cull data;
 //   GPU:   pixel → cell (gears_cells), triangle → cells count (gears_count), exclusive prefix sum,
 //          write of the (cell, triangle) pairs (gears_write), radix sort by cell (radix_*),
 //          begin/end per cell (gears_ranges), per-pixel edge-plane rasterization onto the k×k
-//          bitmask, one 32-bit word per row (gears_raster);
+//          bitmask, one 32-bit word per row (gears_raster) or sample by sample, or by the LUT
+//          [Wang 2014 §4.3] (gears_samples), after the CPU's per-pixel culls; semi-opaque
+//          occluders scale per-sample transmittances instead of setting bits;
 //   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
 // Three submissions per side of the light plane: the pair count is read back to size the pair
 // buffers, and the longest cell to size the rasterization's chunks.
+#include <algorithm>
 #include <bit>
 #include <chrono>
 #include <deque>
@@ -19,6 +23,9 @@
 #include "penumbra/render/receivers.hpp"
 #include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
+#include "penumbra/shadows/gears/item_cull.hpp"
+#include "penumbra/shadows/gears/lut.hpp"
+#include "penumbra/shadows/gears/solids.hpp"
 #include "penumbra/shadows/light_weights.hpp"
 
 namespace penumbra::gpu {
@@ -68,11 +75,13 @@ struct RasterPush {
   uint32_t first, chunk;  // this dispatch's part of each cell's list
   float uv_lo[2], uv_hi[2];
   VkDeviceAddress alpha, texels, samples;
+  uint32_t flags;  // 2: deepest first, 4: the pixel's culls, 8: the hidden-shadow test
 };
-static_assert(sizeof(RasterPush) == 120);
+static_assert(sizeof(RasterPush) == 128);
 struct SamplesPush {
   VkDeviceAddress pix, tris, cell, begin, end, vals, words_out, emit, samples, alpha, texels;
-  uint32_t n, ns, words, first, chunk, per_pixel;
+  uint32_t n, ns, words, first, chunk;
+  uint32_t flags;  // 1: per-pixel samples, 2: deepest first, 4: the pixel's culls
   float uv_lo[2], uv_hi[2];
 };
 static_assert(sizeof(SamplesPush) == 128);
@@ -80,23 +89,205 @@ static_assert(sizeof(SamplesPush) == 128);
 // Triangles of a cell one rasterization dispatch walks: × 32 rows × 4 lines below llvmpipe's
 // 65535-iteration loop limit (gears_raster.comp), and still few dispatches on a real GPU.
 constexpr uint32_t kRasterChunk = 256;
+/// The same with alpha-tested or semi-opaque triangles, whose covered samples are visited one by
+/// one (up to k per row).
+uint32_t rows_chunk(int k, bool translucent) {
+  if (!translucent) return kRasterChunk;
+  return std::clamp<uint32_t>(50000u / static_cast<uint32_t>(k * k + k + 1), 1, kRasterChunk);
+}
 /// The same for the per-sample rasterizer (gears_samples.comp): one iteration per sample.
 uint32_t samples_chunk(int samples) {
   return std::clamp<uint32_t>(50000u / static_cast<uint32_t>(samples + 8), 1, kRasterChunk);
+}
+
+/// The grid's resolution: the option's, or by default one cell per 2×2 image pixels (the CPU's
+/// default is one per 8×8). Each GPU pixel walks its whole cell list (the CPU's work items first
+/// cull it for their ≤ 32 samples), so shorter lists pay for the extra pairs: lavapipe, bunny
+/// 128², 16×16 samples: rasterization 9–10 s on 16² cells, 2.3 s on 64². At most 255 per side,
+/// so that the count pass's loop over a triangle's cells stays below llvmpipe's loop limit.
+int grid_resolution_vk(int option, int width, int height) {
+  if (option > 0) return option;
+  return std::clamp((std::max(width, height) + 1) / 2, 16, 255);
 }
 
 void push4(std::vector<float>& out, const Vec3& v) {
   out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
 }
 
+/// A triangle's slab bounds (hx0, hx1, hy0, hy1) of [Wang 2014 §4.2]'s per-item cull, as
+/// gears::pack_triangles computes them (gears/item_cull.hpp): a pixel whose own bounds miss them
+/// cannot be blocked by it. `v`: 3 light-space vertices, stride 4; `sgn`: the side's mirror.
+Vec4 slab_bounds(const float* v, float zmin, float sgn, const gears::FlatLight& light) {
+  constexpr float kRel = 1e-4f, kAbs = 1e-6f;  // item_cull.cpp's widening
+  if (!light.flat || !(zmin > 0.0f)) return Vec4(kInfinity, -kInfinity, kInfinity, -kInfinity);
+  float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
+  for (int c = 0; c < 3; ++c) {
+    const float x = v[4 * c], y = v[4 * c + 1], z = sgn * v[4 * c + 2];
+    hx0 = std::max(hx0, (x - light.lx0) / z), hx1 = std::min(hx1, (x - light.lx1) / z);
+    hy0 = std::max(hy0, (y - light.ly0) / z), hy1 = std::min(hy1, (y - light.ly1) / z);
+  }
+  return Vec4(hx0 + kRel * std::abs(hx0) + kAbs, hx1 - kRel * std::abs(hx1) - kAbs,
+              hy0 + kRel * std::abs(hy0) + kAbs, hy1 - kRel * std::abs(hy1) - kAbs);
+}
+
+/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 6 vec4
+/// per triangle: alpha data, transmittance, the slab bounds, the plane test's TrianglePlane (its
+/// solid's index as the last float's bits).
+constexpr size_t kTriInfo = 24;  // floats of alpha and cull data per triangle
+struct SideTriangles {
+  std::vector<float> tris, alpha;
+};
+
+/// The occluders in order of this side's nearest depth (z mirrored by `side`), ties by id: the
+/// CPU's order [Wang 2014 §4.2, the prefix sum in triangle order], so each cell's list, a stable
+/// sort by cell of the pairs, is in depth order and a pixel's depth cut is a prefix of it. Each
+/// triangle also gets its slab bounds for the per-pixel cull (gears::pack_triangles, `flat`: this
+/// side's light).
+SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<float>& alpha,
+                            int side, const gears::FlatLight& flat,
+                            const gears::TrianglePlane* planes, const uint32_t* solid) {
+  const size_t count = tris.size() / 12;
+  const float sgn = static_cast<float>(side);
+  std::vector<float> zmin(count);
+  for (size_t t = 0; t < count; ++t)
+    zmin[t] =
+        std::min(sgn * tris[12 * t + 2], std::min(sgn * tris[12 * t + 6], sgn * tris[12 * t + 10]));
+  std::vector<uint32_t> order(count);
+  for (size_t t = 0; t < count; ++t) order[t] = static_cast<uint32_t>(t);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return zmin[a] < zmin[b]; });
+  SideTriangles out;
+  out.tris.resize(tris.size());
+  out.alpha.resize(count * kTriInfo);
+  for (size_t r = 0; r < count; ++r) {
+    const size_t t = order[r];
+    std::copy_n(tris.begin() + 12 * t, 12, out.tris.begin() + 12 * r);
+    float* info = &out.alpha[kTriInfo * r];
+    std::copy_n(alpha.begin() + 12 * t, 12, info);
+    out.tris[12 * r + 3] = zmin[t];
+    const Vec4 slab = slab_bounds(&tris[12 * t], zmin[t], sgn, flat);
+    for (int i = 0; i < 4; ++i) info[12 + i] = slab[i];
+    // No plane data: a plane no sample is strictly on either side of.
+    const gears::TrianglePlane pl =
+        planes ? planes[t] : gears::TrianglePlane{0, 0, 0, 0, 0, -kInfinity, kInfinity, 0};
+    const float plane[8] = {
+        pl.nx, pl.ny,   pl.nz,   pl.d,
+        pl.n1, pl.lmin, pl.lmax, std::bit_cast<float>(solid ? solid[t] : gears::kNoSolid)};
+    std::copy_n(plane, 8, info + 16);
+  }
+  return out;
+}
+
+/// The shadow-casting triangles in light space (3 vec4 each) and 3 vec4 of alpha data each
+/// (texel offset, width, height, 1 = alpha-tested; uv0, uv1; uv2, transmittance), in the CPU's
+/// order: shadow-casting meshes in order, each one's triangles in order.
+struct Occluders {
+  std::vector<float> tris, alpha;
+  // 4 header words (the LUT's: table offset, angles, offsets, radius; 0: none), then the alpha
+  // textures (1 where the texel blocks) and the LUT's table.
+  std::vector<uint32_t> texels = std::vector<uint32_t>(4, 0);
+  std::vector<uint32_t> mesh, prim;  // each triangle's mesh and index in it
+  std::vector<uint8_t> opaque;
+  bool semi_opaque = false;  // some occluder has transmittance > 0
+  bool translucent = false;  // some occluder is semi-opaque or alpha-tested
+};
+
+Occluders gather_occluders(const Scene& scene, const gears::LightSpace& space) {
+  Occluders o;
+  std::vector<int> texel_offset(scene.textures.size(), -1);
+  for (const Mesh& mesh : scene.meshes) {
+    if (!mesh.casts_shadows) continue;
+    const Material& mat = scene.material_of(mesh);
+    o.semi_opaque |= mat.transmittance > 0.0f;
+    o.translucent |= mat.transmittance > 0.0f || mat.alpha_texture >= 0;
+    const Texture* tex = mat.alpha_texture >= 0 ? &scene.textures[mat.alpha_texture] : nullptr;
+    float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    if (tex) {
+      int& offset = texel_offset[mat.alpha_texture];
+      if (offset < 0) {
+        offset = static_cast<int>(o.texels.size());
+        for (int y = 0; y < tex->height; ++y)
+          for (int x = 0; x < tex->width; ++x)
+            o.texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
+      }
+      header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
+      header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
+      header[3] = 1.0f;
+    }
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      for (int c = 0; c < 3; ++c) push4(o.tris, space.to_light(mesh.vertex(t, c)));
+      o.mesh.push_back(static_cast<uint32_t>(&mesh - scene.meshes.data()));
+      o.prim.push_back(static_cast<uint32_t>(t));
+      o.opaque.push_back(mat.is_opaque() ? 1 : 0);
+      o.alpha.insert(o.alpha.end(), header, header + 4);
+      Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
+      if (tex && !mesh.uvs.empty())
+        for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
+      o.alpha.insert(o.alpha.end(), {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y,
+                                     mat.transmittance, 0.0f});
+    }
+  }
+  return o;
+}
+
+/// The occluders as the CPU's TriangleSoup, for its plane and solid culls.
+gears::TriangleSoup soup_of(const Occluders& o) {
+  gears::TriangleSoup soup;
+  soup.resize(o.mesh.size());
+  for (size_t t = 0; t < o.mesh.size(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      soup.x[c][t] = o.tris[12 * t + 4 * c];
+      soup.y[c][t] = o.tris[12 * t + 4 * c + 1];
+      soup.z[c][t] = o.tris[12 * t + 4 * c + 2];
+    }
+    soup.mesh[t] = o.mesh[t], soup.prim[t] = o.prim[t], soup.opaque[t] = o.opaque[t];
+  }
+  return soup;
+}
+
+/// One side's cull data: the slab cull's light (for a flat light with shared samples, their box,
+/// as the CPU's pass), the side's pixels' own slab bounds (pix's fifth vec4), and the triangles
+/// in depth order with their slab bounds, planes (`soup`: none without the per-pixel culls) and
+/// solids.
+SideTriangles side_cull_data(const gears::GridCamera& cam, int side, bool shrink, Vec2 uv_lo,
+                             Vec2 uv_hi, const std::vector<Vec3>& p_light, std::vector<float>& pix,
+                             const Occluders& occ, const gears::TriangleSoup* soup,
+                             const gears::Solids& solids) {
+  gears::FlatLight flat = gears::flat_light(cam);
+  if (shrink) flat = gears::shrink_to_samples(flat, uv_lo, uv_hi);
+  for (size_t a = 0; a < p_light.size(); ++a) {
+    const Vec3& q = p_light[a];
+    if ((side > 0) != (q.z >= 0.0f)) continue;
+    const float z = static_cast<float>(side) * q.z;
+    const gears::ItemBounds b = gears::item_bounds(flat, &q.x, &q.y, &z, 1);
+    float* out = &pix[20 * a + 16];
+    out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
+  }
+  const UninitVector<gears::TrianglePlane> planes =
+      soup ? gears::triangle_planes(*soup, gears::plane_test_corners(flat, cam))
+           : UninitVector<gears::TrianglePlane>{};
+  return sort_by_depth(occ.tris, occ.alpha, side, flat, soup ? planes.data() : nullptr,
+                       solids.count() > 0 ? solids.of_triangle.data() : nullptr);
+}
+
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
-    if (o.get_choice("variant") != "edge")
-      throw Error("gears.variant=" + o.get_choice("variant") +
-                  " has no Vulkan path (the GPU rasterizes edge planes)");
+    lut_ = o.get_choice("variant") == "lut";
+    lut_resolution_ = o.get_int("lut_resolution");
     grid_ = o.get_int("grid");
+    deepest_first_ = o.get_bool("deepest_first");
+    pixel_cull_ = o.get_bool("pixel_cull");
+    solid_cull_ = o.get_bool("solid_cull");
+    hidden_cull_ = o.get_bool("hidden_cull");
     eye_distance_ = static_cast<float>(o.get_real("eye_distance"));
+  }
+
+  /// The closed components of the scene's opaque meshes, as the CPU's prepare.
+  void prepare(const Scene& scene) override {
+    if (!solid_cull_) return;
+    components_ = gears::find_closed_components(scene);
+    prepared_ = true;
   }
 
   Visibility compute(const ShadowContext& ctx) override {
@@ -113,8 +304,10 @@ class GearsVk final : public ShadowMethod {
     const bool per_pixel = ctx.samples.per_pixel();
     // As on the CPU: row spans for the regular grid of shared samples (k ≤ 32), sample by sample
     // otherwise (one sample at the light for a point light).
-    const bool use_rows =
-        ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel && k <= 32 && !point;
+    // The LUT [Wang 2014 §4.3] needs shared sample positions, as on the CPU.
+    const bool use_lut = lut_ && !per_pixel && !point;
+    const bool use_rows = ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel &&
+                          k <= 32 && !point && !use_lut;
     const int ns = point ? 1 : n;
     const uint32_t words = static_cast<uint32_t>((ns + 31) / 32);
     const Texture* emission =
@@ -140,7 +333,7 @@ class GearsVk final : public ShadowMethod {
     const LightSpace space = make_light_space(light, frame0, toward, +1);
     std::vector<Vec3> p_light(active.size());
     std::vector<float> pix;
-    pix.reserve(active.size() * 16);
+    pix.reserve(active.size() * 20);
     for (size_t a = 0; a < active.size(); ++a) {
       const Vec3 p = space.to_light(g.shadow_origin(active[a]));
       p_light[a] = p;
@@ -158,42 +351,26 @@ class GearsVk final : public ShadowMethod {
         ev = dir(f.edge_v);
       }
       push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
+      push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
     }
-    // Occluders in light space, and for alpha-tested ones the texture to test per sample.
-    std::vector<float> tris, alpha;
-    std::vector<uint32_t> texels;
-    std::vector<int> texel_offset(ctx.scene.textures.size(), -1);
-    for (const Mesh& mesh : ctx.scene.meshes) {
-      if (!mesh.casts_shadows) continue;
-      const Material& mat = ctx.scene.material_of(mesh);
-      if (mat.transmittance > 0.0f)
-        throw Error("gears on vulkan: semi-opaque occluders are not supported (use --backend cpu)");
-      const Texture* tex =
-          mat.alpha_texture >= 0 ? &ctx.scene.textures[mat.alpha_texture] : nullptr;
-      float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-      if (tex) {
-        int& offset = texel_offset[mat.alpha_texture];
-        if (offset < 0) {
-          offset = static_cast<int>(texels.size());
-          for (int y = 0; y < tex->height; ++y)
-            for (int x = 0; x < tex->width; ++x)
-              texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
-        }
-        header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
-        header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
-        header[3] = 1.0f;
-      }
-      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-        for (int c = 0; c < 3; ++c) push4(tris, space.to_light(mesh.vertex(t, c)));
-        alpha.insert(alpha.end(), header, header + 4);
-        Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
-        if (tex && !mesh.uvs.empty())
-          for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
-        alpha.insert(alpha.end(),
-                     {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y, 0.0f, 0.0f});
-      }
-    }
+    Occluders occ = gather_occluders(ctx.scene, space);
+    const std::vector<float>& tris = occ.tris;
+    std::vector<uint32_t>& texels = occ.texels;
+    const bool semi_opaque = occ.semi_opaque, translucent = occ.translucent;
     const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
+    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
+    // certified outside of (pix: the w of its w and eu vectors, as two 32-bit halves).
+    const gears::TriangleSoup soup = pixel_cull_ ? soup_of(occ) : gears::TriangleSoup{};
+    gears::Solids solids;
+    if (pixel_cull_ && solid_cull_) {
+      if (!prepared_) prepare(ctx.scene);
+      solids = find_solids(components_, soup);
+      for (size_t a = 0; a < active.size(); ++a) {
+        const uint64_t outside = solids.outside(p_light[a]);
+        pix[20 * a + 7] = std::bit_cast<float>(static_cast<uint32_t>(outside));
+        pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
+      }
+    }
     // Light corners in light space, for the extrusion.
     std::vector<Vec3> corners;
     const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
@@ -248,26 +425,44 @@ class GearsVk final : public ShadowMethod {
     } else {
       for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
     }
+    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
+    // occluders keep the list's order, so that their products are formed in the CPU's order.
+    const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
+    if (use_lut) {
+      const gears::EdgeLut lut(shared, lut_resolution_, lut_resolution_);
+      texels[0] = static_cast<uint32_t>(texels.size());
+      texels[1] = static_cast<uint32_t>(lut.angles());
+      texels[2] = static_cast<uint32_t>(lut.offsets());
+      texels[3] = std::bit_cast<uint32_t>(lut.radius());
+      // 64-bit words as their two 32-bit halves: the same bits, 32-bit word w = sample bits
+      // 32·w … 32·w + 31 as the shader's masks. A row of the table: ⌈n/64⌉ words, 2× as many here.
+      for (uint64_t w : lut.table())
+        texels.insert(texels.end(), {static_cast<uint32_t>(w), static_cast<uint32_t>(w >> 32)});
+    }
     vis.times.add("light_space_setup", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const Buffer pix_buf = vk.upload(pix);
-    const Buffer tri_buf = vk.upload(tris);
     const Buffer emit_buf = use_rows ? vk.upload(emit_rows) : vk.upload(emit_bits);
-    const Buffer alpha_buf = vk.upload(alpha);
     const Buffer texel_buf = vk.upload(texels);
     const Buffer sample_buf = vk.upload(sample_uv);
     const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
     const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
-    const Buffer rows_buf(vk, std::max<size_t>(size_t{na} * words_per_pixel, 1) * 4,
-                          Memory::device);
+    // Semi-opaque occluders: each pixel's per-sample transmittances (floats, 1 at first) after
+    // the masks, in the same buffer (the shaders' push constants are full).
+    const size_t mask_words = size_t{na} * words_per_pixel;
+    const size_t trans_words = semi_opaque ? size_t{na} * static_cast<size_t>(ns) : 0;
+    const Buffer rows_buf(vk, std::max<size_t>(mask_words + trans_words, 1) * 4, Memory::device);
     const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
     const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
     const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
-    vk.submit_now(
-        [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0); });
+    vk.submit_now([&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0);
+      if (trans_words > 0)
+        vkCmdFillBuffer(cmd, rows_buf.handle(), mask_words * 4, trans_words * 4,
+                        std::bit_cast<uint32_t>(1.0f));
+    });
     vis.times.add("wall_upload", elapsed_ms(t0));
 
     double wall_gpu = 0.0;
@@ -280,7 +475,7 @@ class GearsVk final : public ShadowMethod {
       t0 = std::chrono::steady_clock::now();
       const LightSpace side_space = make_light_space(light, frame0, toward, side);
       const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_,
-                                              grid_resolution(grid_, g.width, g.height));
+                                              grid_resolution_vk(grid_, g.width, g.height));
       GridCameraGpu cg{};
       cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
       cg.plane_z = cam.plane_z;
@@ -293,6 +488,12 @@ class GearsVk final : public ShadowMethod {
       for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
         for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
       const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
+      const SideTriangles sorted =
+          side_cull_data(cam, side, !per_pixel && !point && !sphere, uv_lo, uv_hi, p_light, pix,
+                         occ, pixel_cull_ ? &soup : nullptr, solids);
+      const Buffer pix_buf = vk.upload(pix);
+      const Buffer tri_buf = vk.upload(sorted.tris);
+      const Buffer alpha_buf = vk.upload(sorted.alpha);
       const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
       const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
       vis.times.add("grid_camera", elapsed_ms(t0));
@@ -374,29 +575,31 @@ class GearsVk final : public ShadowMethod {
         CommandList raster(vk);
         const uint32_t chunk = samples_chunk(ns);
         for (uint32_t first = 0; first < longest && !use_rows; first += chunk) {
-          const SamplesPush sp{pix_buf.address(),
-                               tri_buf.address(),
-                               cell_buf.address(),
-                               begin.address(),
-                               end.address(),
-                               sorted_vals.address(),
-                               rows_buf.address(),
-                               emit_buf.address(),
-                               sample_buf.address(),
-                               alpha_buf.address(),
-                               texel_buf.address(),
-                               na,
-                               static_cast<uint32_t>(ns),
-                               words,
-                               first,
-                               chunk,
-                               per_pixel || point ? 1u : 0u,
-                               {uv_lo.x, uv_lo.y},
-                               {uv_hi.x, uv_hi.y}};
+          const SamplesPush sp{
+              pix_buf.address(),
+              tri_buf.address(),
+              cell_buf.address(),
+              begin.address(),
+              end.address(),
+              sorted_vals.address(),
+              rows_buf.address(),
+              emit_buf.address(),
+              sample_buf.address(),
+              alpha_buf.address(),
+              texel_buf.address(),
+              na,
+              static_cast<uint32_t>(ns),
+              words,
+              first,
+              chunk,
+              (per_pixel || point ? 1u : 0u) | (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u),
+              {uv_lo.x, uv_lo.y},
+              {uv_hi.x, uv_hi.y}};
           raster.dispatch(programs.get(Shader::gears_samples), sp, na);
           raster.barrier();
         }
-        for (uint32_t first = 0; first < longest && use_rows; first += kRasterChunk) {
+        const uint32_t row_chunk = rows_chunk(k, translucent);
+        for (uint32_t first = 0; first < longest && use_rows; first += row_chunk) {
           const RasterPush rp{pix_buf.address(),
                               tri_buf.address(),
                               cell_buf.address(),
@@ -408,12 +611,14 @@ class GearsVk final : public ShadowMethod {
                               na,
                               k,
                               first,
-                              kRasterChunk,
+                              row_chunk,
                               {uv_lo.x, uv_lo.y},
                               {uv_hi.x, uv_hi.y},
                               alpha_buf.address(),
                               texel_buf.address(),
-                              sample_buf.address()};
+                              sample_buf.address(),
+                              (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u) |
+                                  (pixel_cull_ && hidden_cull_ ? 8u : 0u)};
           raster.dispatch(programs.get(Shader::gears_raster), rp, na);
           raster.barrier();
         }
@@ -426,8 +631,7 @@ class GearsVk final : public ShadowMethod {
 
     // ---- Readback: rows → SampleMasks (bit i·k + j... row-major: sample s = j·k + i).
     t0 = std::chrono::steady_clock::now();
-    const std::vector<uint32_t> rows =
-        vk.download<uint32_t>(rows_buf, size_t{na} * words_per_pixel);
+    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, mask_words + trans_words);
     std::vector<Vec2> uvs(n);
     std::vector<float> sample_vis(n);
     for (size_t a = 0; a < active.size(); ++a) {
@@ -447,7 +651,7 @@ class GearsVk final : public ShadowMethod {
         for (uint32_t w = 0; w < words; ++w)
           m[w >> 1] |= uint64_t{rows[a * words + w]} << (32 * (w & 1));
       }
-      if (!emission && !per_pixel && !point) {
+      if (!emission && !per_pixel && !point && !semi_opaque) {
         int blocked = 0;
         for (int i = 0; i < masks.words_per_pixel(); ++i)
           blocked += std::popcount(m[i] & emit_words[i]);
@@ -460,7 +664,13 @@ class GearsVk final : public ShadowMethod {
       const LightFrame frame = light_frame(light, g.shadow_origin(pixel));
       ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
                                 static_cast<int>(pixel / g.width), uvs);
-      for (int s = 0; s < n; ++s) sample_vis[s] = masks.blocked(pixel, s) ? 0.0f : 1.0f;
+      // Unblocked samples: the product of the semi-opaque layers they cross (a point light's one
+      // sample standing for all), as the CPU shades them.
+      const uint32_t* trans = semi_opaque ? rows.data() + mask_words + a * ns : nullptr;
+      for (int s = 0; s < n; ++s)
+        sample_vis[s] = masks.blocked(pixel, s)
+                            ? 0.0f
+                            : (trans ? std::bit_cast<float>(trans[point ? 0 : s]) : 1.0f);
       const SampleWeights w =
           accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
       vis.lit[pixel] = w.visible_fraction();
@@ -477,6 +687,14 @@ class GearsVk final : public ShadowMethod {
  private:
   Backend& backend_;
   int grid_ = 0;
+  bool lut_ = false;
+  int lut_resolution_ = 256;
+  bool deepest_first_ = true;
+  bool pixel_cull_ = true;
+  bool solid_cull_ = true;
+  bool hidden_cull_ = true;
+  bool prepared_ = false;
+  gears::SolidComponents components_;  // the scene's closed components (solid cull)
   float eye_distance_ = 1.0f;
 };
 

@@ -9,39 +9,59 @@
 // s = sign(det(A−P, B−P, C−P)), and beyond the triangle's plane; each test is a line in light uv,
 // so no clipping is needed.
 //
+// Each pixel walks the prefix of its cell's list that its depth cut keeps, deepest first, and
+// skips the triangles the CPU's per-pixel tests drop (slabs, shadow box) before their lines.
+//
 // Loops: a dispatch walks at most `chunk` triangles of a cell (the host dispatches the chunks of
 // the longest cell in turn, OR-ing into rows_out): llvmpipe (lavapipe) stops any loop after 65535
 // iterations in total, counting a nested loop's iterations across its enclosing loop's, so
-// chunk × 32 rows × 4 lines stays below that (alpha-tested samples count too: a cell dense in alpha-tested
-// triangles can still reach the limit there).
+// chunk × 32 rows × 4 lines stays below that; with alpha-tested or semi-opaque triangles, whose
+// covered samples are visited one by one, the host takes chunks of 50 000 / (k² + k + 1).
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
 layout(push_constant) uniform Push {
-  Vec4s pix;   // per active pixel: p, w, eu, ev
+  Vec4s pix;   // per active pixel: p, w, eu, ev, slab bounds (w.w, eu.w: solids outside)
   Vec4s tris;  // 3 per triangle
   Uints cell;  // per active pixel (~0: other side)
   Uints begin;
   Uints end;
   Uints vals;       // sorted triangle ids
-  Uints rows_out;   // k words per active pixel
+  Uints rows_out;   // k words per active pixel, then (semi-opaque scenes) k² floats per pixel
   Uints emit_rows;  // k words: the samples the light emits from
   uint n;
   int k;
-  uint first;  // this dispatch: entries [first, first + chunk) of each cell's list
+  uint first;  // this dispatch: walk_range's entries first … first + chunk − 1
   uint chunk;
   vec2 uv_lo;  // bounding box of the sample positions
   vec2 uv_hi;
-  Vec4s alpha;      // 3 per triangle: (texel offset, width, height, 1 = alpha-tested), uv0 uv1, uv2
+  Vec4s alpha;      // 6 per triangle: (texel offset, width, height, 1 = alpha-tested),
+                    // uv0 uv1, (uv2, transmittance), slab bounds, plane (2)
   Uints texels;     // alpha textures: 1 where the texel blocks (alpha ≥ the cutoff)
   Floats samples;   // light uv of sample s at 2s, 2s + 1
+  uint flags;       // 2: deepest first, 4: the pixel's culls, 8: the hidden-shadow test
 } pc;
 
 #include "gears_lines.glsl"
 
-/// ORs triangle t's coverage of the k×k samples into rows; false when it covers nothing.
-bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint rows[32]) {
+/// ORs triangle t's coverage of the k×k samples into rows; false when it sets no bit. A
+/// semi-opaque triangle instead scales the transmittance of each sample it covers (the pixel's
+/// k² floats from word `trans_base` of rows_out).
+bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, uint trans_base,
+                     inout uint rows[32]) {
   const float kf = float(k);
+  ivec4 box;
+  bool boxed;
+  if (!shadow_box(t, p, eu, ev, k, pc.uv_lo, pc.uv_hi, box, boxed)) return false;
+  const int j0 = box.z, j1 = box.w;
+  if (boxed && (pc.flags & 8u) != 0u) {
+    // The CPU's hidden-shadow test: a shadow whose box holds only samples already blocked
+    // changes nothing (a semi-opaque layer over them neither: their V is 0).
+    const uint need = (2u << uint(box.y)) - (1u << uint(box.x));  // i1 = 31: 2 << 31 wraps to 0
+    bool hidden = true;
+    for (int j = j0; j <= j1; ++j) hidden = hidden && (rows[j] & need) == need;
+    if (hidden) return false;
+  }
   float la[4], lb[4], lc[4];
   if (!triangle_lines(t, p, w, eu, ev, pc.uv_lo, pc.uv_hi, la, lb, lc)) return false;
   // Row-span form in sample-index space (sample (i, j) at ((i + ½)/k, (j + ½)/k)): line m is
@@ -57,8 +77,9 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
     flat_line = flat_line || lb[m] == 0.0;
   }
   bool any = false;
-  const bool alpha_tested = pc.alpha.v[3u * t].w != 0.0;
-  for (int j = 0; j < k; ++j) {
+  const bool alpha_tested = pc.alpha.v[6u * t].w != 0.0;
+  const float transmittance = transmittance_of(t);
+  for (int j = j0; j <= j1; ++j) {
     const float jf = float(j);
     precise float t_lo = -2.0, t_hi = kf + 1.0;
     bool empty = false;
@@ -77,6 +98,11 @@ bool raster_triangle(uint t, vec3 p, vec3 w, vec3 eu, vec3 ev, int k, inout uint
         for (int i = lo; i <= hi; ++i)
           if (!alpha_blocks_at(t, la, lb, lc, pc.samples.v[2 * (j * k + i)],
                                pc.samples.v[2 * (j * k + i) + 1])) span &= ~(1u << uint(i));
+      if (transmittance > 0.0) {
+        for (uint bits = span; bits != 0u; bits &= bits - 1u)
+          attenuate(pc.rows_out, trans_base + uint(j * k + findLSB(bits)), transmittance);
+        continue;
+      }
       rows[j] |= span;
       any = any || span != 0u;
     }
@@ -90,13 +116,25 @@ void main() {
   const uint c = pc.cell.v[a];
   if (c == 0xffffffffu) return;
   const int k = pc.k;
-  const vec3 p = pc.pix.v[4u * a].xyz;
-  const vec3 w = pc.pix.v[4u * a + 1u].xyz;
-  const vec3 eu = pc.pix.v[4u * a + 2u].xyz;
-  const vec3 ev = pc.pix.v[4u * a + 3u].xyz;
-  const uint e0 = pc.begin.v[c] + pc.first, e1 = min(pc.end.v[c], e0 + pc.chunk);
-  if (e0 >= e1) return;
+  // The whole vec4 at once: p and the depth cut (w). (Read as .w on its own after .xyz,
+  // lavapipe returned x.)
+  const vec4 p_cut = pc.pix.v[5u * a];
+  const vec3 p = p_cut.xyz;
+  const vec4 w_out = pc.pix.v[5u * a + 1u], eu_out = pc.pix.v[5u * a + 2u];
+  const vec3 w = w_out.xyz, eu = eu_out.xyz;
+  // The solids the pixel is certified outside of (the plane test's solid cull).
+  const uvec2 outside = uvec2(floatBitsToUint(w_out.w), floatBitsToUint(eu_out.w));
+  const vec3 ev = pc.pix.v[5u * a + 3u].xyz;
+  uint e0, e1;
+  if (!walk_range(pc.begin.v[c], pc.end.v[c], p_cut.w, pc.first, pc.chunk, pc.flags,
+                  e0, e1))
+    return;
+  const bool descending = (pc.flags & 2u) != 0u;
+  const bool slab_cull = (pc.flags & 4u) != 0u;
+  const vec4 slab = pc.pix.v[5u * a + 4u];
   const uint base = a * uint(k);
+  // Semi-opaque occluders: the pixels' per-sample transmittances follow the rows in rows_out.
+  const uint trans_base = pc.n * uint(k) + a * uint(k * k);
   uint rows[32];
   uint emit[32];
   bool full = true;
@@ -105,9 +143,10 @@ void main() {
     emit[j] = j < k ? pc.emit_rows.v[j] : 0u;
     full = full && (rows[j] & emit[j]) == emit[j];
   }
-  for (uint e = e0; e < e1 && !full; ++e) {
-    const uint t = pc.vals.v[e];
-    if (raster_triangle(t, p, w, eu, ev, k, rows)) {
+  for (uint i = 0u; i < e1 - e0 && !full; ++i) {
+    const uint t = pc.vals.v[descending ? e1 - 1u - i : e0 + i];
+    if (slab_cull && !(in_slabs(t, slab) && plane_keeps(t, p, outside))) continue;
+    if (raster_triangle(t, p, w, eu, ev, k, trans_base, rows)) {
       // Every emitting sample blocked: no later triangle can change the mask.
       full = true;
       for (int j = 0; j < 32; ++j) full = full && (rows[j] & emit[j]) == emit[j];

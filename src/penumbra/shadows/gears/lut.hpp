@@ -22,6 +22,11 @@ class EdgeLut {
   size_t bytes() const { return table_.size() * sizeof(uint64_t); }
   /// Mask of the samples with a + b·u + c·v ≥ 0 (quantized line).
   const uint64_t* lookup(float a, float b, float c) const;
+  /// The table and its parameters, for a GPU copy of lookup().
+  int angles() const { return angles_; }
+  int offsets() const { return offsets_; }
+  float radius() const { return radius_; }
+  std::span<const uint64_t> table() const { return table_; }
 
  private:
   int angles_, offsets_, words_;
