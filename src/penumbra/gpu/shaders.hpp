@@ -41,7 +41,9 @@ enum class Shader {
   dcs_finish,
   ssm_blend,
   wedges_pass2,
+  wedges_pass2_textured,
   wedge_blend_pass2,
+  wedge_blend_pass2_textured,
   count_
 };
 
