@@ -22,59 +22,57 @@ namespace penumbra::gpu {
 namespace {
 
 struct BlendPush {
-  VkDeviceAddress pix, wedges, weight, wedge_group, bin_begin, bin_entries, count_begin,
+  VkDeviceAddress pix, wedges, weight, wedge_group, bin_begin, bin_entries, run_end, count_begin,
       count_group, count_value, state, occ, part, density;
-  uint32_t na, budget, entry_cost, group_cost;
-  int32_t em_w, em_h;
+  uint32_t na, budget, costs, em_size;
 };
 static_assert(sizeof(BlendPush) <= kPushBytes);
 
-/// wedge_blend_pass2.glsl State: the V-buffer (per part the occlusion per channel and the
-/// rectangle), the next count entry and the next bin entry.
+/// wedge_blend_pass2.glsl SvPart and State: the V-buffer, the open group's SV-buffer and the
+/// walk's cursors.
+struct SvPartGpu {
+  double occ[3], rect[4];
+  double outer_s, outer_t, inner_s, inner_t, inner_angle;
+};
 struct BlendState {
   double v_occ[4][3];
   double v_rect[4][4];
-  uint32_t ci, bi;
+  SvPartGpu sv[4];
+  uint32_t ci, bi, bj, j, phase, pad;
 };
-static_assert(sizeof(BlendState) == 232);
+static_assert(sizeof(BlendState) == 632);
 
-/// The longest run of one group's wedges in a bin: what one invocation must walk at once.
-uint32_t longest_group_run(const wedge_pass::BinnedWedges& bw) {
-  uint32_t longest = 0;
-  for (const std::vector<uint32_t>& bin : bw.bins)
-    for (size_t j = 0, k = 0; j < bin.size(); j = k) {
+/// Per bin entry (CSR position) the end of the run of its group's entries in its bin.
+std::vector<uint32_t> run_ends(const Bins& bins, const std::vector<uint32_t>& group) {
+  std::vector<uint32_t> end(bins.entries.size());
+  for (size_t t = 0; t + 1 < bins.begin.size(); ++t)
+    for (uint32_t j = bins.begin[t], k = j; j < bins.begin[t + 1]; j = k) {
       k = j + 1;
-      while (k < bin.size() && bw.group[bin[k]] == bw.group[bin[j]]) ++k;
-      longest = std::max(longest, static_cast<uint32_t>(k - j));
+      while (k < bins.begin[t + 1] && group[bins.entries[k]] == group[bins.entries[j]]) ++k;
+      std::fill(end.begin() + j, end.begin() + k, k);
     }
-  return longest;
+  return end;
 }
 
-/// How many loop iterations a dispatch may spend per pixel. llvmpipe stops an invocation after
-/// 65535 loop iterations in all: a bin entry costs up to ~250 (both passes' wedge test and clips,
-/// the sectors of the parts it reaches), a group's blend ~50; a textured light adds ~300 per texel
-/// to an entry (its parts' weighted sectors, wedge_emission.glsl weigh_polygon) and ~720 to a
-/// group (three rectangles per blended part). Whole groups are walked, so the longest run of one
-/// group in a bin must fit alone. Other devices walk every pixel's bin at once.
+/// The loop iterations a dispatch may spend per pixel. llvmpipe stops an invocation after 65535
+/// loop iterations in all; the walk goes in steps — open a group (~50), one bin entry of one pass
+/// (~125: the wedge test, the clips, the sectors of the parts it reaches), close the group — and
+/// a textured light adds ~150 per texel to an entry's step (its parts' weighted sectors,
+/// wedge_emission.glsl weigh_polygon) and ~50 per texel to a group's (three rectangles per blended
+/// part). Other devices walk every pixel's bin in one dispatch.
 struct Budget {
   uint32_t budget = 0xffffffffu, entry_cost = 0, group_cost = 0;
 };
-Budget budget_of(const VulkanContext& vk, const LightEmission* emission,
-                 const wedge_pass::BinnedWedges& bw) {
+Budget budget_of(const VulkanContext& vk, const LightEmission* emission) {
   if (vk.info().type != "cpu") return {};
-  const uint32_t texels = emission ? static_cast<uint32_t>(emission->width * emission->height) : 0u;
-  Budget b{0, 250 + 300 * texels, 50 + 720 * texels};
-  const uint32_t run = longest_group_run(bw);
-  const uint64_t group = static_cast<uint64_t>(run) * b.entry_cost + b.group_cost;
-  if (group + b.group_cost + b.entry_cost > 60000)
-    throw Error("wedge_blend on vulkan: a caster group with " + std::to_string(run) +
-                " wedges in one 16x16 tile" +
-                (emission ? " under a " + std::to_string(emission->width) + "x" +
-                                std::to_string(emission->height) + " light texture"
-                          : std::string()) +
-                " exceeds lavapipe's loop limit (use --backend cpu)");
-  b.budget = static_cast<uint32_t>(60000 - group);
-  return b;
+  const uint64_t texels = emission ? static_cast<uint64_t>(emission->width) * emission->height : 0u;
+  const uint64_t entry = 125 + 150 * texels, group = 50 + 50 * texels;
+  if (std::max(entry, group) > 30000)
+    throw Error("wedge_blend on vulkan: a " + std::to_string(emission->width) + "x" +
+                std::to_string(emission->height) +
+                " light texture exceeds lavapipe's loop limit (use --backend cpu)");
+  return Budget{static_cast<uint32_t>(60000 - std::max(entry, group)), static_cast<uint32_t>(entry),
+                static_cast<uint32_t>(group)};
 }
 
 /// Per active pixel of ctx.light: the occluded fraction per channel from the groups' hard counts
@@ -102,9 +100,9 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
   };
   const Bins bins(bw.bins);
   // The walk's start: an empty V-buffer, each pixel's first count entry and its tile's first
-  // wedge. A pixel's walk costs at most a group per count entry and per bin entry, plus the
-  // entries.
-  const Budget budget = budget_of(vk, in.emission, bw);
+  // wedge. A pixel's walk costs at most two group steps per count entry and per bin entry, plus
+  // two entry steps per bin entry.
+  const Budget budget = budget_of(vk, in.emission);
   const double inf = kInfinity;
   std::vector<BlendState> state(na);
   uint64_t most_cost = 0;
@@ -115,10 +113,10 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
     const uint32_t pixel = pixels[a].pixel, tile = pixels[a].tile;
     s.ci = gc.begin[pixel];
     s.bi = bins.begin[tile];
-    const uint32_t counts = gc.begin[pixel + 1] - gc.begin[pixel];
+    const uint64_t counts = gc.begin[pixel + 1] - gc.begin[pixel];
     const uint64_t entries = bins.begin[tile + 1] - bins.begin[tile];
-    most_cost =
-        std::max(most_cost, (counts + entries) * budget.group_cost + entries * budget.entry_cost);
+    most_cost = std::max(
+        most_cost, 2 * (counts + entries) * budget.group_cost + 2 * entries * budget.entry_cost);
   }
   std::vector<DVec3> parts(in.parts.begin(), in.parts.end());
   std::vector<DVec3> density{DVec3(0.0)};
@@ -133,6 +131,7 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
   const Buffer group_buf = vk.upload(nonempty(bw.group));
   const Buffer begin_buf = vk.upload(bins.begin);
   const Buffer entry_buf = vk.upload(nonempty(bins.entries));
+  const Buffer run_end_buf = vk.upload(nonempty(run_ends(bins, bw.group)));
   const Buffer count_begin = vk.upload(gc.begin);
   const Buffer count_group = vk.upload(nonempty(gc.group));
   const Buffer count_value = vk.upload(nonempty(gc.value));
@@ -144,16 +143,18 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
       in.emission ? Shader::wedge_blend_pass2_textured : Shader::wedge_blend_pass2;
   // Every dispatch but the last spends at least `budget` of every unfinished pixel's cost.
   const uint32_t dispatches =
-      budget.entry_cost == 0 ? 1u : static_cast<uint32_t>(most_cost / budget.budget) + 1u;
+      budget.entry_cost == 0 ? 1u : static_cast<uint32_t>(most_cost / budget.budget) + 2u;
+  const uint32_t costs = budget.entry_cost | budget.group_cost << 16;
+  const uint32_t em_size = static_cast<uint32_t>(em_w) | static_cast<uint32_t>(em_h) << 16;
   CommandList cl(vk);
   for (uint32_t d = 0; d < dispatches; ++d) {
     cl.dispatch(
         backend.programs().get(shader),
         BlendPush{pix_buf.address(), wedge_buf.address(), weight_buf.address(), group_buf.address(),
-                  begin_buf.address(), entry_buf.address(), count_begin.address(),
-                  count_group.address(), count_value.address(), state_buf.address(),
-                  occ_buf.address(), part_buf.address(), density_buf.address(), na, budget.budget,
-                  budget.entry_cost, budget.group_cost, em_w, em_h},
+                  begin_buf.address(), entry_buf.address(), run_end_buf.address(),
+                  count_begin.address(), count_group.address(), count_value.address(),
+                  state_buf.address(), occ_buf.address(), part_buf.address(), density_buf.address(),
+                  na, budget.budget, costs, em_size},
         na);
     cl.barrier();
   }

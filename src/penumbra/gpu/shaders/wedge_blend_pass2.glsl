@@ -8,9 +8,10 @@
 // (wedge_blend_pass2_textured.comp) every share is the emitted power per channel
 // (wedge_blend.cpp LightMeasure: wedge_emission.glsl), else the area (wedge_blend_pass2.comp). The
 // angles come from wedge_coverage.glsl's double atan2 (GLSL has none), within a few ulps of the
-// CPU's. Whole groups are walked per dispatch while the estimated loop iterations spent stay below
-// `budget`; the V-buffer and the cursors stay in `state` between dispatches, and a pixel whose walk
-// is done writes its occlusion per channel (Σ part share × V part).
+// CPU's. The walk goes in steps (open a group, one bin entry of one pass, close the group) while the
+// estimated loop iterations spent stay below `budget`; the V-buffer, the open SV-buffer and the
+// cursors stay in `state` between dispatches, and a pixel whose walk is done writes its occlusion
+// per channel (Σ part share × V part).
 #include "common.glsl"
 #include "dcs.glsl"
 #include "wedge_coverage.glsl"
@@ -27,14 +28,24 @@ struct Rect {
   double s0, t0, s1, t1;
 };
 
+/// One light part of the SV-buffer (wedge_blend.cpp SvPart).
+struct SvPart {
+  dvec3 occ;
+  Rect rect;
+  double outer_s, outer_t, inner_s, inner_t, inner_angle;
+};
+
 /// Per active pixel between dispatches: the V-buffer (per part its occlusion per channel and
-/// rectangle), the next count entry and the next bin entry.
+/// rectangle), the open group's SV-buffer, the next count entry, the open (or next) group's bin
+/// entries [bi, bj), the next entry of the open pass, and the phase (kNoGroup, kOuter, kInner).
 struct State {
   dvec3 v_occ[4];
   Rect v_rect[4];
-  uint ci, bi;
+  SvPart sv[4];
+  uint ci, bi, bj, j, phase, pad;
 };
 layout(buffer_reference, scalar) buffer States { State v[]; };
+const uint kNoGroup = 0u, kOuter = 1u, kInner = 2u;
 
 layout(push_constant) uniform Push {
   WedgePixels pix;
@@ -43,6 +54,7 @@ layout(push_constant) uniform Push {
   Uints wedge_group;  // per wedge: its caster group
   Uints bin_begin;
   Uints bin_entries;
+  Uints run_end;      // per bin entry: the end of its group's run in the bin
   Uints count_begin;  // per pixel: its group counts [count_begin[i], count_begin[i + 1])
   Uints count_group;
   Floats count_value;
@@ -51,8 +63,9 @@ layout(push_constant) uniform Push {
   DVec3s part;     // the light's share in each part (LightMeasure::part)
   DVec3s density;  // a textured light's normalised emission per texel
   uint na;
-  uint budget, entry_cost, group_cost;  // loop iterations: a dispatch starts groups below budget
-  int em_w, em_h;
+  uint budget;  // loop iterations: a dispatch takes steps while it has spent less
+  uint costs;   // an entry's and a group's estimated iterations, 16 bits each
+  uint em_size;  // the texture's width and height, 16 bits each
 } pc;
 
 const double kPiD = 3.14159265358979323846lf;
@@ -119,12 +132,6 @@ bool part_sector(int q, dvec2 a, dvec2 b, out double area, out Rect rect) {
   return true;
 }
 
-/// One light part of the SV-buffer (wedge_blend.cpp SvPart).
-struct SvPart {
-  dvec3 occ;
-  Rect rect;
-  double outer_s, outer_t, inner_s, inner_t, inner_angle;
-};
 
 /// The pixel, seen once.
 dvec3 P, TO_U, TO_V, TO_W;
@@ -236,26 +243,38 @@ void blend_part(int q, SvPart s, inout dvec3 v_occ, inout Rect v_rect) {
   add_rect(v_rect, s.rect);
 }
 
-/// One caster group at the pixel (Algorithm 4 lines 4–7): its SV-buffer from its hard count and
-/// the covered edges of bin entries [bi, bj), blended into the V-buffer.
-void blend_group(double count, uint bi, uint bj, inout State st) {
-  SvPart sv[4];
+/// Opens the next group (wedge_pass::for_each_group): its hard count initialises the SV-buffer
+/// (Algorithm 4 line 4), its wedges are the run of bin entries from bi.
+void open_group(inout State st, uint ce, uint be) {
+  uint grp = st.ci < ce ? pc.count_group.v[st.ci] : 0xffffffffu;
+  if (st.bi < be) grp = min(grp, pc.wedge_group.v[pc.bin_entries.v[st.bi]]);
+  double count = 0.0;
+  if (st.ci < ce && pc.count_group.v[st.ci] == grp) count = double(pc.count_value.v[st.ci++]);
+  st.bj = st.bi < be && pc.wedge_group.v[pc.bin_entries.v[st.bi]] == grp ? pc.run_end.v[st.bi]
+                                                                         : st.bi;
   for (int q = 0; q < 4; ++q)
-    sv[q] = SvPart(dvec3(count), count > 0.0 ? Rect(0.0, 0.0, 0.5, 0.5) : empty_rect(), 0.0, 0.0,
-                   0.0, 0.0, 0.0);
-  for (int pass = 0; pass < 2; ++pass) {  // outer half-wedges first (§3.3.3)
-    for (uint j = bi; j < bj; ++j) {
-      const uint w = pc.bin_entries.v[j];
-      dvec2 ea, eb;
-      double area;
-      if (!covered_edge(w, ea, eb, area)) continue;
-      const bool outer = occlusion(w, area) > 0.0;
-      if (outer != (pass == 0)) continue;
-      add_edge(sv, w, ea, eb, outer);
-    }
-  }
+    st.sv[q] = SvPart(dvec3(count), count > 0.0 ? Rect(0.0, 0.0, 0.5, 0.5) : empty_rect(), 0.0,
+                      0.0, 0.0, 0.0, 0.0);
+  st.j = st.bi;
+  st.phase = kOuter;
+}
+
+/// Algorithm 5 for bin entry j in the open pass: outer half-wedges first, then inner (§3.3.3).
+void add_entry(inout State st, uint j) {
+  const uint w = pc.bin_entries.v[j];
+  dvec2 ea, eb;
+  double area;
+  if (!covered_edge(w, ea, eb, area)) return;
+  const bool outer = occlusion(w, area) > 0.0;
+  if (outer != (st.phase == kOuter)) return;
+  add_edge(st.sv, w, ea, eb, outer);
+}
+
+/// Closes the open group: decrease_brect, the clamp, and the blend into the V-buffer
+/// (Algorithm 4 line 7).
+void close_group(inout State st) {
   for (int q = 0; q < 4; ++q) {
-    SvPart p = sv[q];
+    SvPart p = st.sv[q];
     if (p.inner_angle >= 0.5 * kPiD * (1.0 - 1e-9lf) && !is_empty(p.rect)) {
       p.rect.s1 = max(p.rect.s0, min(p.rect.s1, max(p.inner_s, p.outer_s)));
       p.rect.t1 = max(p.rect.t0, min(p.rect.t1, max(p.inner_t, p.outer_t)));
@@ -263,6 +282,8 @@ void blend_group(double count, uint bi, uint bj, inout State st) {
     p.occ = clamp(p.occ, dvec3(0.0), dvec3(1.0));
     blend_part(q, p, st.v_occ[q], st.v_rect[q]);
   }
+  st.bi = st.bj;
+  st.phase = kNoGroup;
 }
 
 void main() {
@@ -279,7 +300,7 @@ void main() {
   for (int q = 0; q < 4; ++q) PART[q] = pc.part.v[q];
 #ifdef TEXTURED
   EM = pc.density;
-  EM_W = pc.em_w, EM_H = pc.em_h;
+  EM_W = int(pc.em_size & 0xffffu), EM_H = int(pc.em_size >> 16);
 #endif
   const bool valid = (flags & kValid) != 0u;
 
@@ -287,20 +308,30 @@ void main() {
   const uint ce = pc.count_begin.v[pixel + 1u];
   const uint tile = pc.pix.v[a].tile;
   const uint be = valid ? pc.bin_begin.v[tile + 1u] : st.bi;
-  uint spent = 0u;
-  while ((st.ci < ce || st.bi < be) && spent < pc.budget) {  // wedge_pass::for_each_group
-    uint grp = st.ci < ce ? pc.count_group.v[st.ci] : 0xffffffffu;
-    if (st.bi < be) grp = min(grp, pc.wedge_group.v[pc.bin_entries.v[st.bi]]);
-    double count = 0.0;
-    if (st.ci < ce && pc.count_group.v[st.ci] == grp) count = double(pc.count_value.v[st.ci++]);
-    uint bj = st.bi;
-    while (bj < be && pc.wedge_group.v[pc.bin_entries.v[bj]] == grp) ++bj;
-    blend_group(count, st.bi, bj, st);
-    spent += pc.group_cost + (bj - st.bi) * pc.entry_cost;
-    st.bi = bj;
+  // One step per iteration (open a group, one entry of a pass, close the group), so a dispatch
+  // can stop anywhere and the next one resume.
+  bool done = false;
+  for (uint spent = 0u; spent < pc.budget;) {
+    if (st.phase == kNoGroup) {
+      if (!(st.ci < ce || st.bi < be)) {
+        done = true;
+        break;
+      }
+      open_group(st, ce, be);
+      spent += pc.costs >> 16;
+    } else if (st.j < st.bj) {
+      add_entry(st, st.j++);
+      spent += pc.costs & 0xffffu;
+    } else if (st.phase == kOuter) {
+      st.phase = kInner;
+      st.j = st.bi;
+    } else {
+      close_group(st);
+      spent += pc.costs >> 16;
+    }
   }
   pc.state.v[a] = st;
-  if (st.ci < ce || st.bi < be) return;
+  if (!done) return;
   precise dvec3 occ = dvec3(0.0);
   for (int q = 0; q < 4; ++q) occ += PART[q] * st.v_occ[q];
   pc.occ.v[a] = occ;
