@@ -84,8 +84,16 @@ TEST(VulkanWedges, OverlapApproximation) {
       spheres, spheres.run("wedges"), test::run_vulkan(backend, spheres, "wedges", overlap));
   std::printf("spheres: overlap vs plain max |dV| %.3g\n", d.max);
   EXPECT_GT(d.max, 0.05);
-  check_frame(backend, make_test_frame("fence", 40, 40, grid_samples(2)), "fence overlap", 0.0,
-              overlap);
+  // The fence: its perforated triangles through soft textured shadow volumes (no wedges), and
+  // solid (alpha=opaque), its wedges on the device.
+  const auto fence = make_test_frame("fence", 40, 40, grid_samples(2));
+  check_frame(backend, fence, "fence overlap", 0.0, overlap);
+  check_frame(backend, fence, "opaque fence overlap", 0.0,
+              {{"overlap", "true"}, {"alpha", "opaque"}});
+  EXPECT_GT(test::run_vulkan(backend, fence, "wedges", {{"overlap", "true"}, {"alpha", "opaque"}})
+                .per_light[0]
+                .counters.at("wedges"),
+            0.0);
   check_frame(backend,
               make_test_frame(round_light_scene(LightShape::disk), 40, 40, grid_samples(2)),
               "disk light overlap", 0.0, overlap);
@@ -130,8 +138,10 @@ TEST(VulkanWedgeBlend, EqualsCpuOnRectLight) {
 
 TEST(VulkanWedgeBlend, FenceWithSoftTexturedShadowVolumes) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  check_method(backend, "wedge_blend", make_test_frame("fence", 48, 48, grid_samples(2)), "fence",
-               0.0);
+  const auto fence = make_test_frame("fence", 48, 48, grid_samples(2));
+  check_method(backend, "wedge_blend", fence, "fence", 0.0);
+  // Solid (alpha=opaque): the fence's wedges on the device.
+  check_method(backend, "wedge_blend", fence, "opaque fence", 0.0, {{"alpha", "opaque"}});
 }
 
 TEST(VulkanWedgeBlend, DiskAndSphereLights) {

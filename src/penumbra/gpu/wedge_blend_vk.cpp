@@ -41,6 +41,7 @@ struct BlendState {
   uint32_t ci, bi, bj, j, phase, pad;
 };
 static_assert(sizeof(BlendState) == 632);
+constexpr uint32_t kFirst = 1u << 30, kStore = 1u << 31;  // BlendPush::costs
 
 /// Per bin entry (CSR position) the end of the run of its group's entries in its bin.
 std::vector<uint32_t> run_ends(const Bins& bins, const std::vector<uint32_t>& group) {
@@ -99,25 +100,21 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
     return v;
   };
   const Bins bins(bw.bins);
-  // The walk's start: an empty V-buffer, each pixel's first count entry and its tile's first
-  // wedge. A pixel's walk costs at most two group steps per count entry and per bin entry, plus
-  // two entry steps per bin entry.
+  // A pixel's walk costs at most two group steps per count entry and per bin entry, plus two
+  // entry steps per bin entry.
   const Budget budget = budget_of(vk, in.emission);
-  const double inf = kInfinity;
-  std::vector<BlendState> state(na);
   uint64_t most_cost = 0;
   for (uint32_t a = 0; a < na; ++a) {
-    BlendState& s = state[a];
-    s = {};
-    for (auto& r : s.v_rect) r[0] = inf, r[1] = inf, r[2] = -inf, r[3] = -inf;
     const uint32_t pixel = pixels[a].pixel, tile = pixels[a].tile;
-    s.ci = gc.begin[pixel];
-    s.bi = bins.begin[tile];
     const uint64_t counts = gc.begin[pixel + 1] - gc.begin[pixel];
     const uint64_t entries = bins.begin[tile + 1] - bins.begin[tile];
     most_cost = std::max(
         most_cost, 2 * (counts + entries) * budget.group_cost + 2 * entries * budget.entry_cost);
   }
+  // Every dispatch but the last spends at least `budget` of every unfinished pixel's cost; the
+  // first starts the walk (the shader sets the state up), all but the last keep its state.
+  const uint32_t dispatches =
+      budget.entry_cost == 0 ? 1u : static_cast<uint32_t>(most_cost / budget.budget) + 2u;
   std::vector<DVec3> parts(in.parts.begin(), in.parts.end());
   std::vector<DVec3> density{DVec3(0.0)};
   int32_t em_w = 1, em_h = 1;
@@ -135,16 +132,13 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
   const Buffer count_begin = vk.upload(gc.begin);
   const Buffer count_group = vk.upload(nonempty(gc.group));
   const Buffer count_value = vk.upload(nonempty(gc.value));
-  const Buffer state_buf = vk.upload(state);
+  const Buffer state_buf(vk, (dispatches > 1 ? na : 1u) * sizeof(BlendState), Memory::device);
   const Buffer occ_buf(vk, static_cast<size_t>(na) * sizeof(DVec3), Memory::device);
   const Buffer part_buf = vk.upload(parts);
   const Buffer density_buf = vk.upload(density);
   const Shader shader =
       in.emission ? Shader::wedge_blend_pass2_textured : Shader::wedge_blend_pass2;
-  // Every dispatch but the last spends at least `budget` of every unfinished pixel's cost.
-  const uint32_t dispatches =
-      budget.entry_cost == 0 ? 1u : static_cast<uint32_t>(most_cost / budget.budget) + 2u;
-  const uint32_t costs = budget.entry_cost | budget.group_cost << 16;
+  const uint32_t costs = budget.entry_cost | budget.group_cost << 15;
   const uint32_t em_size = static_cast<uint32_t>(em_w) | static_cast<uint32_t>(em_h) << 16;
   CommandList cl(vk);
   for (uint32_t d = 0; d < dispatches; ++d) {
@@ -154,7 +148,8 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
                   begin_buf.address(), entry_buf.address(), run_end_buf.address(),
                   count_begin.address(), count_group.address(), count_value.address(),
                   state_buf.address(), occ_buf.address(), part_buf.address(), density_buf.address(),
-                  na, budget.budget, costs, em_size},
+                  na, budget.budget,
+                  costs | (d == 0 ? kFirst : 0u) | (d + 1 < dispatches ? kStore : 0u), em_size},
         na);
     cl.barrier();
   }

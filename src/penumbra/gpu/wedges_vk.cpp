@@ -38,7 +38,7 @@ struct PassState {
   uint32_t grp, ci;
 };
 static_assert(sizeof(PassState) == 56);
-constexpr uint32_t kNone = 0xffffffffu, kLast = 2;
+constexpr uint32_t kLast = 2, kFirst = 4;
 
 /// Bin entries per dispatch. llvmpipe stops an invocation after 65535 loop iterations in all: a
 /// wedge costs up to ~40 (16 planes, the clips, the sector), and with a textured light up to
@@ -66,9 +66,6 @@ Image<DVec3> pass2(Backend& backend, const ShadowContext& ctx, const Light& ligh
   const std::vector<WedgePixelGpu> pixels = wedge_pixels(ctx, light, bw.tiles_x);
   const uint32_t na = static_cast<uint32_t>(pixels.size());
   if (na == 0) return occ;
-  std::vector<PassState> state(na);
-  for (uint32_t a = 0; a < na; ++a)
-    state[a] = PassState{{0, 0, 0}, {0, 0, 0}, kNone, gc.begin[pixels[a].pixel]};
   std::vector<WedgeGpu> wedges;
   std::vector<double> weight;
   for (const Wedge& w : bw.wedges) {
@@ -97,20 +94,20 @@ Image<DVec3> pass2(Backend& backend, const ShadowContext& ctx, const Light& ligh
   const Buffer count_begin = vk.upload(gc.begin);
   const Buffer count_group = vk.upload(nonempty(gc.group));
   const Buffer count_value = vk.upload(nonempty(gc.value));
-  const Buffer state_buf = vk.upload(state);
+  const Buffer state_buf(vk, static_cast<size_t>(na) * sizeof(PassState), Memory::device);
   const Buffer density_buf = vk.upload(density);
   const uint32_t chunk = chunk_of(vk, in.emission, bins.longest);
   const Shader shader = in.emission ? Shader::wedges_pass2_textured : Shader::wedges_pass2;
   CommandList cl(vk);
   for (uint32_t first = 0;; first += chunk) {
     const bool last = first + chunk >= bins.longest;
-    cl.dispatch(
-        backend.programs().get(shader),
-        Pass2Push{pix_buf.address(), wedge_buf.address(), weight_buf.address(), group_buf.address(),
-                  begin_buf.address(), entry_buf.address(), count_begin.address(),
-                  count_group.address(), count_value.address(), state_buf.address(),
-                  density_buf.address(), na, first, chunk, last ? kLast : 0u, em_w, em_h},
-        na);
+    cl.dispatch(backend.programs().get(shader),
+                Pass2Push{pix_buf.address(), wedge_buf.address(), weight_buf.address(),
+                          group_buf.address(), begin_buf.address(), entry_buf.address(),
+                          count_begin.address(), count_group.address(), count_value.address(),
+                          state_buf.address(), density_buf.address(), na, first, chunk,
+                          (first == 0 ? kFirst : 0u) | (last ? kLast : 0u), em_w, em_h},
+                na);
     cl.barrier();
     if (last) break;
   }

@@ -10,7 +10,7 @@
 // angles come from wedge_coverage.glsl's double atan2 (GLSL has none), within a few ulps of the
 // CPU's. The walk goes in steps (open a group, one bin entry of one pass, close the group) while the
 // estimated loop iterations spent stay below `budget`; the V-buffer, the open SV-buffer and the
-// cursors stay in `state` between dispatches, and a pixel whose walk is done writes its occlusion
+// cursors stay in `state` between dispatches (the first dispatch starts them, kStore keeps them), and a pixel whose walk is done writes its occlusion
 // per channel (Σ part share × V part).
 #include "common.glsl"
 #include "dcs.glsl"
@@ -46,6 +46,7 @@ struct State {
 };
 layout(buffer_reference, scalar) buffer States { State v[]; };
 const uint kNoGroup = 0u, kOuter = 1u, kInner = 2u;
+const uint kCostMask = 0x7fffu, kFirst = 1u << 30, kStore = 1u << 31;
 
 layout(push_constant) uniform Push {
   WedgePixels pix;
@@ -64,7 +65,7 @@ layout(push_constant) uniform Push {
   DVec3s density;  // a textured light's normalised emission per texel
   uint na;
   uint budget;  // loop iterations: a dispatch takes steps while it has spent less
-  uint costs;   // an entry's and a group's estimated iterations, 16 bits each
+  uint costs;   // an entry's and a group's estimated iterations (15 bits each), kFirst, kStore
   uint em_size;  // the texture's width and height, 16 bits each
 } pc;
 
@@ -304,7 +305,18 @@ void main() {
 #endif
   const bool valid = (flags & kValid) != 0u;
 
-  State st = pc.state.v[a];
+  State st;
+  if ((pc.costs & kFirst) != 0u) {  // the walk's start: an empty V-buffer, the first entries
+    for (int q = 0; q < 4; ++q) {
+      st.v_occ[q] = dvec3(0.0);
+      st.v_rect[q] = empty_rect();
+    }
+    st.ci = pc.count_begin.v[pixel];
+    st.bi = pc.bin_begin.v[pc.pix.v[a].tile];
+    st.bj = st.bi, st.j = st.bi, st.phase = kNoGroup, st.pad = 0u;
+  } else {
+    st = pc.state.v[a];
+  }
   const uint ce = pc.count_begin.v[pixel + 1u];
   const uint tile = pc.pix.v[a].tile;
   const uint be = valid ? pc.bin_begin.v[tile + 1u] : st.bi;
@@ -318,19 +330,19 @@ void main() {
         break;
       }
       open_group(st, ce, be);
-      spent += pc.costs >> 16;
+      spent += (pc.costs >> 15) & kCostMask;
     } else if (st.j < st.bj) {
       add_entry(st, st.j++);
-      spent += pc.costs & 0xffffu;
+      spent += pc.costs & kCostMask;
     } else if (st.phase == kOuter) {
       st.phase = kInner;
       st.j = st.bi;
     } else {
       close_group(st);
-      spent += pc.costs >> 16;
+      spent += (pc.costs >> 15) & kCostMask;
     }
   }
-  pc.state.v[a] = st;
+  if ((pc.costs & kStore) != 0u) pc.state.v[a] = st;
   if (!done) return;
   precise dvec3 occ = dvec3(0.0);
   for (int q = 0; q < 4; ++q) occ += PART[q] * st.v_occ[q];

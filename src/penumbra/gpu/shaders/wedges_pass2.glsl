@@ -30,7 +30,7 @@ struct State {
 };
 layout(buffer_reference, scalar) buffer States { State v[]; };
 const uint kNone = 0xffffffffu;
-const uint kLast = 2u;
+const uint kLast = 2u, kFirst = 4u;
 
 layout(push_constant) uniform Push {
   WedgePixels pix;
@@ -44,7 +44,7 @@ layout(push_constant) uniform Push {
   Floats count_value;
   States state;
   DVec3s density;  // a textured light's normalised emission per texel
-  uint na, first, chunk, mode;  // mode: kLast, this dispatch closes the groups
+  uint na, first, chunk, mode;  // kFirst: starts the walk; kLast: closes the groups
   int em_w, em_h;
 } pc;
 
@@ -76,7 +76,11 @@ void main() {
   EM = pc.density;
   EM_W = pc.em_w, EM_H = pc.em_h;
 #endif
-  State s = pc.state.v[a];
+  State s;
+  if ((pc.mode & kFirst) != 0u)
+    s = State(dvec3(0.0), dvec3(0.0), kNone, pc.count_begin.v[pixel]);
+  else
+    s = pc.state.v[a];
   if ((flags & kValid) != 0u) {
     const uint tile = pc.pix.v[a].tile;
     const uint b1 = pc.bin_begin.v[tile + 1u];
