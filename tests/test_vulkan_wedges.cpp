@@ -116,6 +116,8 @@ TEST(VulkanWedges, TexturedLight) {
                                        32, grid_samples(2));
   check_frame(backend, spheres, "textured spheres split 2 overlap", 0.0,
               {{"split", "2"}, {"overlap", "true"}});
+  // marquee's 64 × 8 texture: regions clipped against many texels, one wedge per dispatch.
+  check_frame(backend, make_test_frame("marquee", 32, 32, grid_samples(2)), "marquee", 0.0);
 }
 
 TEST(VulkanWedges, CoverageTextureIsAClearError) {
@@ -161,6 +163,8 @@ TEST(VulkanWedgeBlend, TexturedLight) {
   const auto quad = make_test_frame(test::with_textured_light(make_builtin_scene("quad")), 32, 32,
                                     grid_samples(2));
   check_method(backend, "wedge_blend", quad, "textured quad", 0.0);
+  check_method(backend, "wedge_blend", make_test_frame("marquee", 32, 32, grid_samples(2)),
+               "marquee", 0.0);
   // Overlapping groups: eq. 3.1's rectangles measured in emitted power (slow on lavapipe: 24²).
   const auto spheres = make_test_frame(test::with_textured_light(make_builtin_scene("spheres")), 24,
                                        24, grid_samples(2));

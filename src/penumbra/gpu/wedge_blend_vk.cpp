@@ -41,7 +41,7 @@ struct BlendState {
   uint32_t ci, bi, bj, j, phase, pad;
 };
 static_assert(sizeof(BlendState) == 632);
-constexpr uint32_t kFirst = 1u << 30, kStore = 1u << 31;  // BlendPush::costs
+constexpr uint32_t kFirst = 1u << 30, kStore = 1u << 31;  // BlendPush::costs, above the costs
 
 /// Per bin entry (CSR position) the end of the run of its group's entries in its bin.
 std::vector<uint32_t> run_ends(const Bins& bins, const std::vector<uint32_t>& group) {
@@ -57,18 +57,20 @@ std::vector<uint32_t> run_ends(const Bins& bins, const std::vector<uint32_t>& gr
 
 /// The loop iterations a dispatch may spend per pixel. llvmpipe stops an invocation after 65535
 /// loop iterations in all; the walk goes in steps — open a group (~50), one bin entry of one pass
-/// (~125: the wedge test, the clips, the sectors of the parts it reaches), close the group — and
-/// a textured light adds ~150 per texel to an entry's step (its parts' weighted sectors,
-/// wedge_emission.glsl weigh_polygon) and ~50 per texel to a group's (three rectangles per blended
-/// part). Other devices walk every pixel's bin in one dispatch.
+/// (~125: the wedge test, the clips, the sectors of the parts it reaches), close the group. A
+/// textured light adds to an entry's step up to 80 per texel a part's region reaches
+/// (wedge_emission.glsl weigh_polygon, as in wedges_vk.cpp), in at most three parts, and to a
+/// group's step one per texel of three rectangles in each of the four parts. A part reaches at
+/// most (⌊w/2⌋ + 1) × (⌊h/2⌋ + 1) texels. Other devices walk every pixel's bin in one dispatch.
 struct Budget {
   uint32_t budget = 0xffffffffu, entry_cost = 0, group_cost = 0;
 };
 Budget budget_of(const VulkanContext& vk, const LightEmission* emission) {
   if (vk.info().type != "cpu") return {};
-  const uint64_t texels = emission ? static_cast<uint64_t>(emission->width) * emission->height : 0u;
-  const uint64_t entry = 125 + 150 * texels, group = 50 + 50 * texels;
-  if (std::max(entry, group) > 30000)
+  const uint64_t part_texels =
+      emission ? static_cast<uint64_t>(emission->width / 2 + 1) * (emission->height / 2 + 1) : 0u;
+  const uint64_t entry = 125 + 3 * 80 * part_texels, group = 50 + 12 * part_texels;
+  if (entry > 59000 || group > 16000)
     throw Error("wedge_blend on vulkan: a " + std::to_string(emission->width) + "x" +
                 std::to_string(emission->height) +
                 " light texture exceeds lavapipe's loop limit (use --backend cpu)");
@@ -138,7 +140,7 @@ Image<DVec3> blend_pass(Backend& backend, const ShadowContext& ctx,
   const Buffer density_buf = vk.upload(density);
   const Shader shader =
       in.emission ? Shader::wedge_blend_pass2_textured : Shader::wedge_blend_pass2;
-  const uint32_t costs = budget.entry_cost | budget.group_cost << 15;
+  const uint32_t costs = budget.entry_cost | budget.group_cost << 16;
   const uint32_t em_size = static_cast<uint32_t>(em_w) | static_cast<uint32_t>(em_h) << 16;
   CommandList cl(vk);
   for (uint32_t d = 0; d < dispatches; ++d) {

@@ -46,7 +46,7 @@ struct State {
 };
 layout(buffer_reference, scalar) buffer States { State v[]; };
 const uint kNoGroup = 0u, kOuter = 1u, kInner = 2u;
-const uint kCostMask = 0x7fffu, kFirst = 1u << 30, kStore = 1u << 31;
+const uint kFirst = 1u << 30, kStore = 1u << 31;
 
 layout(push_constant) uniform Push {
   WedgePixels pix;
@@ -65,7 +65,7 @@ layout(push_constant) uniform Push {
   DVec3s density;  // a textured light's normalised emission per texel
   uint na;
   uint budget;  // loop iterations: a dispatch takes steps while it has spent less
-  uint costs;   // an entry's and a group's estimated iterations (15 bits each), kFirst, kStore
+  uint costs;   // an entry's (16 bits) and a group's (14 bits) estimated iterations, kFirst, kStore
   uint em_size;  // the texture's width and height, 16 bits each
 } pc;
 
@@ -330,16 +330,16 @@ void main() {
         break;
       }
       open_group(st, ce, be);
-      spent += (pc.costs >> 15) & kCostMask;
+      spent += (pc.costs >> 16) & 0x3fffu;
     } else if (st.j < st.bj) {
       add_entry(st, st.j++);
-      spent += pc.costs & kCostMask;
+      spent += pc.costs & 0xffffu;
     } else if (st.phase == kOuter) {
       st.phase = kInner;
       st.j = st.bi;
     } else {
       close_group(st);
-      spent += (pc.costs >> 15) & kCostMask;
+      spent += (pc.costs >> 16) & 0x3fffu;
     }
   }
   if ((pc.costs & kStore) != 0u) pc.state.v[a] = st;
