@@ -57,7 +57,8 @@ std::vector<uint32_t> run_ends(const Bins& bins, const std::vector<uint32_t>& gr
 
 /// The loop iterations a dispatch may spend per pixel. llvmpipe stops an invocation after 65535
 /// loop iterations in all; the walk goes in steps — open a group (~50), one bin entry of one pass
-/// (~125: the wedge test, the clips, the sectors of the parts it reaches), close the group. A
+/// (~250 with no loop unrolled: the wedge test, the clips, the sectors and angles of the parts it
+/// reaches), close the group. A
 /// textured light adds to an entry's step up to 80 per texel a part's region reaches
 /// (wedge_emission.glsl weigh_polygon, as in wedges_vk.cpp), in at most three parts, and to a
 /// group's step one per texel of three rectangles in each of the four parts. A part reaches at
@@ -69,7 +70,7 @@ Budget budget_of(const VulkanContext& vk, const LightEmission* emission) {
   if (vk.info().type != "cpu") return {};
   const uint64_t part_texels =
       emission ? static_cast<uint64_t>(emission->width / 2 + 1) * (emission->height / 2 + 1) : 0u;
-  const uint64_t entry = 125 + 3 * 80 * part_texels, group = 50 + 12 * part_texels;
+  const uint64_t entry = 250 + 3 * 80 * part_texels, group = 50 + 12 * part_texels;
   if (entry > 59000 || group > 16000)
     throw Error("wedge_blend on vulkan: a " + std::to_string(emission->width) + "x" +
                 std::to_string(emission->height) +
