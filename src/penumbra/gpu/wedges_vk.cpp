@@ -32,7 +32,7 @@ struct Pass2Push {
 };
 static_assert(sizeof(Pass2Push) <= kPushBytes);
 
-/// wedges_pass2.comp State: the open group's sum, the folded total, the open group, next count.
+/// wedges_pass2.glsl State: the open group's sum, the folded total, the open group, next count.
 struct PassState {
   double sum[3], total[3];
   uint32_t grp, ci;
@@ -42,10 +42,9 @@ constexpr uint32_t kLast = 2, kFirst = 4;
 
 /// Bin entries per dispatch. llvmpipe stops an invocation after 65535 loop iterations in all: a
 /// wedge costs up to ~60 (16 planes, the clips, the sector, the angle's series) and, with a
-/// textured light, up to 80
-/// per texel its region reaches (wedge_emission.glsl weigh_polygon: the region has at most 6
-/// vertices, at most 10 after a texel's four clips, so four clip loops of at most 13–19
-/// iterations and the area's 10). Other devices walk a whole bin at once.
+/// textured light, up to 80 per texel its region reaches (wedge_emission.glsl weigh_polygon: the
+/// region has at most 6 vertices, at most 10 after a texel's four clips, so four clip loops of
+/// 13–19 iterations and the area's 10). Other devices walk a whole bin at once.
 uint32_t chunk_of(const VulkanContext& vk, const LightEmission* emission, uint32_t longest) {
   if (vk.info().type != "cpu") return std::max(longest, 1u);
   const uint64_t texels = emission ? static_cast<uint64_t>(emission->width) * emission->height : 0u;
