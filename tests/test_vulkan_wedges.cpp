@@ -120,10 +120,27 @@ TEST(VulkanWedges, TexturedLight) {
   check_frame(backend, make_test_frame("marquee", 32, 32, grid_samples(2)), "marquee", 0.0);
 }
 
-TEST(VulkanWedges, CoverageTextureIsAClearError) {
+/// The coverage texture [Assarsson 2003 III §3.3] in place of the analytic area on a rectangle: the
+/// CPU's table looked up on the device (nearest in a and bilinear in b, or quadrilinear); a
+/// textured light's RGB table stays on the CPU (a clear error).
+TEST(VulkanWedges, CoverageTexture) {
   PENUMBRA_VULKAN_BACKEND_OR_SKIP(backend);
-  const auto t = make_test_frame("quad", 16, 16, grid_samples(2));
-  EXPECT_THROW(test::run_vulkan(backend, t, "wedges", {{"coverage", "texture"}}), Error);
+  const auto spheres = make_test_frame("spheres", 40, 40, grid_samples(2));
+  const std::map<std::string, std::string> table{{"coverage", "texture"}, {"texture_n", "16"}};
+  check_frame(backend, spheres, "spheres coverage texture", 0.0, table);
+  // The table's interpolation error: the test can tell a lookup from the analytic area.
+  const test::VisibilityDiff d = test::visibility_diff(
+      spheres, spheres.run("wedges"), test::run_vulkan(backend, spheres, "wedges", table));
+  std::printf("spheres: coverage texture (n 16) vs analytic max |dV| %.3g\n", d.max);
+  EXPECT_GT(d.max, 1e-4);
+  check_frame(backend, spheres, "spheres quadrilinear overlap", 0.0,
+              {{"coverage", "texture"},
+               {"texture_n", "16"},
+               {"lookup", "quadrilinear"},
+               {"overlap", "true"}});
+  const auto textured = make_test_frame(test::with_textured_light(make_builtin_scene("quad")), 16,
+                                        16, grid_samples(2));
+  EXPECT_THROW(test::run_vulkan(backend, textured, "wedges", {{"coverage", "texture"}}), Error);
 }
 
 /// wedge_blend: several caster groups per pixel (the spheres overlap as seen from the light), so

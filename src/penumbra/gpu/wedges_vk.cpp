@@ -26,9 +26,10 @@ namespace {
 
 struct Pass2Push {
   VkDeviceAddress pix, wedges, weight, wedge_group, bin_begin, bin_entries, count_begin,
-      count_group, count_value, state, density;
+      count_group, count_value, state, density, table;
   uint32_t na, first, chunk, mode;
   int32_t em_w, em_h;
+  uint32_t table_n, pad;
 };
 static_assert(sizeof(Pass2Push) <= kPushBytes);
 
@@ -38,7 +39,7 @@ struct PassState {
   uint32_t grp, ci;
 };
 static_assert(sizeof(PassState) == 56);
-constexpr uint32_t kLast = 2, kFirst = 4;
+constexpr uint32_t kLast = 2, kFirst = 4, kTable = 8, kQuadrilinear = 16;
 
 /// Bin entries per dispatch. llvmpipe stops an invocation after 65535 loop iterations in all: a
 /// wedge costs up to ~60 (16 planes, the clips, the sector, the angle's series) and, with a
@@ -97,17 +98,36 @@ Image<DVec3> pass2(Backend& backend, const ShadowContext& ctx, const Light& ligh
   const Buffer count_value = vk.upload(nonempty(gc.value));
   const Buffer state_buf(vk, static_cast<size_t>(na) * sizeof(PassState), Memory::device);
   const Buffer density_buf = vk.upload(density);
+  const Buffer table_buf = vk.upload(in.table ? in.table->entries() : std::vector<float>{0.0f});
+  uint32_t table_mode = 0;
+  if (in.table)
+    table_mode = kTable | (in.lookup == CoverageTexture::Lookup::quadrilinear ? kQuadrilinear : 0u);
   const uint32_t chunk = chunk_of(vk, in.emission, bins.longest);
   const Shader shader = in.emission ? Shader::wedges_pass2_textured : Shader::wedges_pass2;
   CommandList cl(vk);
   for (uint32_t first = 0;; first += chunk) {
     const bool last = first + chunk >= bins.longest;
     cl.dispatch(backend.programs().get(shader),
-                Pass2Push{pix_buf.address(), wedge_buf.address(), weight_buf.address(),
-                          group_buf.address(), begin_buf.address(), entry_buf.address(),
-                          count_begin.address(), count_group.address(), count_value.address(),
-                          state_buf.address(), density_buf.address(), na, first, chunk,
-                          (first == 0 ? kFirst : 0u) | (last ? kLast : 0u), em_w, em_h},
+                Pass2Push{pix_buf.address(),
+                          wedge_buf.address(),
+                          weight_buf.address(),
+                          group_buf.address(),
+                          begin_buf.address(),
+                          entry_buf.address(),
+                          count_begin.address(),
+                          count_group.address(),
+                          count_value.address(),
+                          state_buf.address(),
+                          density_buf.address(),
+                          table_buf.address(),
+                          na,
+                          first,
+                          chunk,
+                          table_mode | (first == 0 ? kFirst : 0u) | (last ? kLast : 0u),
+                          em_w,
+                          em_h,
+                          in.table ? static_cast<uint32_t>(in.table->n()) : 0u,
+                          0u},
                 na);
     cl.barrier();
     if (last) break;
@@ -125,10 +145,7 @@ class WedgesVk final : public ShadowMethod {
  public:
   WedgesVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
     WedgeOptions w = wedge_options_of(o);
-    if (w.texture)
-      throw Error(
-          "wedges.coverage=texture has no Vulkan path (the coverage texture runs on the "
-          "CPU)");
+    texture_ = w.texture;
     w.pass2 = [this](const ShadowContext& ctx, const Light& light, const WedgePass2Input& in) {
       return pass2(backend_, ctx, light, in);
     };
@@ -139,11 +156,18 @@ class WedgesVk final : public ShadowMethod {
     if (!backend_.context().has_float64())
       throw Error("wedges on vulkan needs shaderFloat64, which " +
                   backend_.context().device_name() + " lacks");
+    if (texture_ && ctx.light.shape == LightShape::rect && ctx.light.is_textured())
+      throw Error(
+          "wedges.coverage=texture with a textured light has no Vulkan path (the RGB coverage "
+          "texture runs on the CPU)");
     return method_->compute(ctx);
   }
 
+  void prepare(const Scene& scene) override { method_->prepare(scene); }
+
  private:
   Backend& backend_;
+  bool texture_ = false;
   std::unique_ptr<ShadowMethod> method_;
 };
 

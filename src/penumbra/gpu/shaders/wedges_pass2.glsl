@@ -2,7 +2,8 @@
 // pixel, the wedges [first, first + chunk) of its tile's bin that hold it, each edge projected
 // from the pixel and clipped to the light, its signed coverage — area(square ∩ sector) −
 // area(triangle) (coverage.cpp box_sector), the disk's sector minus triangle, or for a textured
-// light the emission of that region per channel (wedge_emission.glsl) — added in bin order, in
+// light the emission of that region per channel (wedge_emission.glsl), or with kTable the coverage
+// texture's value for a rectangle (Assarsson 2003 III §3.3) — added in bin order, in
 // double, to its caster group's sum, which starts from the group's hard count. Groups come in
 // order from the count entries and the bin (wedge_pass::for_each_group); each group's clamped
 // sum is folded into the pixel's total by the overlap approximation's max + ½ min (Assarsson 2003
@@ -30,7 +31,7 @@ struct State {
 };
 layout(buffer_reference, scalar) buffer States { State v[]; };
 const uint kNone = 0xffffffffu;
-const uint kLast = 2u, kFirst = 4u;
+const uint kLast = 2u, kFirst = 4u, kTable = 8u, kQuadrilinear = 16u;
 
 layout(push_constant) uniform Push {
   WedgePixels pix;
@@ -44,9 +45,71 @@ layout(push_constant) uniform Push {
   Floats count_value;
   States state;
   DVec3s density;  // a textured light's normalised emission per texel
-  uint na, first, chunk, mode;  // kFirst: starts the walk; kLast: closes the groups
+  Floats table;    // the coverage texture (kTable): table_n⁴ entries
+  uint na, first, chunk, mode;  // kFirst: starts the walk; kLast: closes the groups; kTable...
   int em_w, em_h;
+  uint table_n, pad;
 } pc;
+
+/// coverage.cpp cell: the grid cell and fraction of u on the nodes i / (n − 1).
+void table_cell(double u, out uint i, out double t) {
+  const int n = int(pc.table_n);
+  precise const double f = clamp(u, 0.0, 1.0) * double(n - 1);
+  const int c = min(int(f), n - 2);
+  precise const double frac = f - double(c);
+  i = uint(c);
+  t = frac;
+}
+
+/// CoverageTexture::bilinear_b: bilinear in b within the table slice of a's node `sub`.
+double table_bilinear_b(uint sub, dvec2 b) {
+  uint ix, iy;
+  double tx, ty;
+  table_cell(b.x, ix, tx);
+  table_cell(b.y, iy, ty);
+  const uint m = pc.table_n;
+  const uint k = sub * m * m + iy * m + ix;
+  const double t0 = double(pc.table.v[k]), t1 = double(pc.table.v[k + 1u]);
+  const double t2 = double(pc.table.v[k + m]), t3 = double(pc.table.v[k + m + 1u]);
+  precise const double r0 = (1.0 - tx) * t0 + tx * t1, r1 = (1.0 - tx) * t2 + tx * t3;
+  precise const double r = (1.0 - ty) * r0 + ty * r1;
+  return r;
+}
+
+/// std::lround of clamp(u, 0, 1) · (n − 1): the nearest node (halves away from zero).
+uint table_nearest(double u) {
+  precise const double x = clamp(u, 0.0, 1.0) * double(int(pc.table_n) - 1);
+  const double f = floor(x);
+  precise const double frac = x - f;
+  return uint(f) + (frac >= 0.5 ? 1u : 0u);
+}
+
+/// CoverageTexture::sector_minus_triangle [Assarsson 2003 III §3.3]: the table's unsigned
+/// coverage, nearest in a and bilinear in b, or quadrilinear, signed by (c, a, b)'s turn.
+double table_sector_minus_triangle(dvec2 a, dvec2 b) {
+  precise const dvec2 da = a - dvec2(0.5), db = b - dvec2(0.5);
+  const double tri2 = cross2(da, db);
+  if (tri2 == 0.0) return 0.0;
+  const uint m = pc.table_n;
+  double f;
+  if ((pc.mode & kQuadrilinear) == 0u) {
+    f = table_bilinear_b(table_nearest(a.y) * m + table_nearest(a.x), b);
+  } else {
+    uint ix, iy;
+    double tx, ty;
+    table_cell(a.x, ix, tx);
+    table_cell(a.y, iy, ty);
+    const uint s = iy * m + ix;
+    precise const double r0 =
+        (1.0 - tx) * table_bilinear_b(s, b) + tx * table_bilinear_b(s + 1u, b);
+    precise const double r1 =
+        (1.0 - tx) * table_bilinear_b(s + m, b) + tx * table_bilinear_b(s + m + 1u, b);
+    precise const double r = (1.0 - ty) * r0 + ty * r1;
+    f = r;
+  }
+  precise const double signed_f = (tri2 > 0.0 ? 1.0 : -1.0) * f;
+  return signed_f;
+}
 
 /// wedges.cpp overlap_combine per channel, of the open group's clamped sum.
 void close_group(inout State s) {
@@ -115,7 +178,8 @@ void main() {
 #ifdef TEXTURED
       const dvec3 f = weighted_sector_minus_triangle(ua, ub);
 #else
-      const dvec3 f = dvec3(area);
+      const dvec3 f =
+          dvec3((pc.mode & kTable) != 0u && !round ? table_sector_minus_triangle(ua, ub) : area);
 #endif
       for (int k = 0; k < 3; ++k) {
         precise const double occlusion = -tau * pc.weight.v[w] * f[k] * inv_area;

@@ -52,12 +52,13 @@ GroupCounts single_group(const ShadowContext& ctx, const Image<float>& count) {
 /// the folded per-channel occlusion it returns, as the CPU pass turns its sums into V.
 Image<float> device_pass2(const ShadowContext& ctx, const Light& light, const BinnedWedges& bw,
                           const WedgeOptions& options, const Image<float>& count,
-                          const GroupCounts& gcount, const RgbLight& rgb) {
+                          const GroupCounts& gcount, const RgbLight& rgb,
+                          const CoverageTexture* table) {
   const GroupCounts single = options.overlap ? GroupCounts{} : single_group(ctx, count);
   const Image<DVec3> occ =
       options.pass2(ctx, light,
                     WedgePass2Input{bw, options.overlap ? gcount : single, options.overlap,
-                                    rgb.out ? rgb.emission : nullptr});
+                                    rgb.out ? rgb.emission : nullptr, table, options.lookup});
   Image<float> vis(ctx.gbuffer.width, ctx.gbuffer.height, 1.0f);
   for (size_t i = 0; i < vis.size(); ++i) {
     if (ctx.receivers[i] != kActive) continue;
@@ -169,8 +170,8 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
   // Pass 2 [Assarsson 2003 III §3.2; Forest 2008 Algorithm 3]: per pixel, every wedge of its tile.
   start = std::chrono::steady_clock::now();
-  if (options.pass2 && !tex && !(rgb.out && rgb.table)) {
-    Image<float> vis = device_pass2(ctx, light, bw, options, count, gcount, rgb);
+  if (options.pass2 && !(rgb.out && rgb.table)) {
+    Image<float> vis = device_pass2(ctx, light, bw, options, count, gcount, rgb, tex);
     st.pass2_ms += elapsed_ms(start);
     return vis;
   }

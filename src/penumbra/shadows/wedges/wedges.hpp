@@ -62,8 +62,9 @@ struct WedgeOptions {
   bool alpha_stsv = true;
   /// The table, built by wedge_visibility when null (the method builds it once).
   std::shared_ptr<const CoverageTexture> table;
-  /// Pass 2 done elsewhere (the Vulkan backend) with analytic coverage: per pixel of (sub-)light
-  /// `light` the occluded fraction per channel (see WedgePass2Input). Null: the CPU's pass.
+  /// Pass 2 done elsewhere (the Vulkan backend): per pixel of (sub-)light `light` the occluded
+  /// fraction per channel (see WedgePass2Input). Null: the CPU's pass. The RGB coverage texture
+  /// (a textured light with `texture`) stays on the CPU.
   std::function<Image<DVec3>(const ShadowContext& ctx, const Light& light,
                              const WedgePass2Input& input)>
       pass2;
@@ -80,6 +81,9 @@ struct WedgePass2Input {
   const wedge_pass::GroupCounts& counts;
   bool grouped = false;
   const LightEmission* emission = nullptr;  // a textured rectangle's (sub-)light, else null
+  /// The coverage texture in place of the analytic area (a rectangle with `texture`), else null.
+  const CoverageTexture* table = nullptr;
+  CoverageTexture::Lookup lookup = CoverageTexture::Lookup::bilinear;
 };
 
 struct WedgeStats {
