@@ -89,6 +89,9 @@ const uint32_t kDcsFinish[] = {
 const uint32_t kWedgesPass2[] = {
 #include "wedges_pass2.comp.inc"
 };
+const uint32_t kWedgesPass2Textured[] = {
+#include "wedges_pass2_textured.comp.inc"
+};
 const uint32_t kVolumeCount[] = {
 #include "volume_count.comp.inc"
 };
@@ -97,6 +100,9 @@ const uint32_t kDepthRaster[] = {
 };
 const uint32_t kWedgeBlendPass2[] = {
 #include "wedge_blend_pass2.comp.inc"
+};
+const uint32_t kWedgeBlendPass2Textured[] = {
+#include "wedge_blend_pass2_textured.comp.inc"
 };
 const uint32_t kSsmBlend[] = {
 #include "ssm_blend.comp.inc"
@@ -170,6 +176,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kSsmBlend;
     case Shader::wedges_pass2:
       return kWedgesPass2;
+    case Shader::wedges_pass2_textured:
+      return kWedgesPass2Textured;
     case Shader::volume_count:
       return kVolumeCount;
     case Shader::depth_raster:
@@ -180,6 +188,8 @@ std::span<const uint32_t> spirv(Shader shader) {
       return kSilmapLayer;
     case Shader::silmap_lookup:
       return kSilmapLookup;
+    case Shader::wedge_blend_pass2_textured:
+      return kWedgeBlendPass2Textured;
     case Shader::count_:
       break;
   }

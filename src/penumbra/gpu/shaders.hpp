@@ -41,9 +41,11 @@ enum class Shader {
   dcs_finish,
   ssm_blend,
   wedges_pass2,
+  wedges_pass2_textured,
   wedge_blend_pass2,
   silmap_layer,
   silmap_lookup,
+  wedge_blend_pass2_textured,
   count_
 };
 

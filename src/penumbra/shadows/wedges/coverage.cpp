@@ -229,6 +229,12 @@ double poly_area(const DVec2* poly, int n) {
   return 0.5 * std::abs(a2);
 }
 
+/// The texels [i0, i1] of a row (or column) of w that [l, h] ⊂ [0, 1] reaches.
+void texel_range(double l, double h, int w, int& i0, int& i1) {
+  i0 = std::clamp(static_cast<int>(std::floor(l * w)), 0, w - 1);
+  i1 = std::clamp(static_cast<int>(std::ceil(h * w)) - 1, i0, w - 1);
+}
+
 /// Σ over texels of density × area(poly ∩ texel), the convex polygon poly inside [0,1]².
 DVec3 weigh_polygon(const LightEmission& em, const DVec2* poly, int n) {
   DVec3 sum(0.0);
@@ -238,13 +244,9 @@ DVec3 weigh_polygon(const LightEmission& em, const DVec2* poly, int n) {
     lo = glm::min(lo, poly[i]);
     hi = glm::max(hi, poly[i]);
   }
-  const auto range = [](double l, double h, int w, int& i0, int& i1) {
-    i0 = std::clamp(static_cast<int>(std::floor(l * w)), 0, w - 1);
-    i1 = std::clamp(static_cast<int>(std::ceil(h * w)) - 1, i0, w - 1);
-  };
   int x0, x1, y0, y1;
-  range(lo.x, hi.x, em.width, x0, x1);
-  range(lo.y, hi.y, em.height, y0, y1);
+  texel_range(lo.x, hi.x, em.width, x0, x1);
+  texel_range(lo.y, hi.y, em.height, y0, y1);
   if (x0 == x1 && y0 == y1)
     return em.density[static_cast<size_t>(y0) * em.width + x0] * poly_area(poly, n);
   for (int ty = y0; ty <= y1; ++ty)
@@ -322,8 +324,26 @@ DVec3 emission_in_box(const LightEmission& em, const DVec2& lo_in, const DVec2& 
   const DVec2 lo = glm::clamp(lo_in, DVec2(0.0), DVec2(1.0)),
               hi = glm::clamp(hi_in, DVec2(0.0), DVec2(1.0));
   if (!(hi.x > lo.x && hi.y > lo.y)) return DVec3(0.0);
-  const DVec2 box[4] = {lo, DVec2(hi.x, lo.y), hi, DVec2(lo.x, hi.y)};
-  return weigh_polygon(em, box, 4);
+  // A box meets a texel in a box: the product of the overlaps, no polygon clipping (the
+  // outermost texels reach to the square's border, as in weigh_polygon).
+  int x0, x1, y0, y1;
+  texel_range(lo.x, hi.x, em.width, x0, x1);
+  texel_range(lo.y, hi.y, em.height, y0, y1);
+  DVec3 sum(0.0);
+  for (int ty = y0; ty <= y1; ++ty) {
+    const double v0 = ty > 0 ? std::max(lo.y, static_cast<double>(ty) / em.height) : lo.y;
+    const double v1 =
+        ty < em.height - 1 ? std::min(hi.y, static_cast<double>(ty + 1) / em.height) : hi.y;
+    if (!(v1 > v0)) continue;
+    for (int tx = x0; tx <= x1; ++tx) {
+      const double u0 = tx > 0 ? std::max(lo.x, static_cast<double>(tx) / em.width) : lo.x;
+      const double u1 =
+          tx < em.width - 1 ? std::min(hi.x, static_cast<double>(tx + 1) / em.width) : hi.x;
+      if (!(u1 > u0)) continue;
+      sum += em.density[static_cast<size_t>(ty) * em.width + tx] * ((u1 - u0) * (v1 - v0));
+    }
+  }
+  return sum;
 }
 
 DVec3 weighted_sector_minus_triangle(const LightEmission& em, const DVec2& a, const DVec2& b) {

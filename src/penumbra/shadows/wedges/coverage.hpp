@@ -79,6 +79,8 @@ class CoverageTexture {
   };
   explicit CoverageTexture(int n);
   int n() const { return n_; }
+  /// The n⁴ entries, [((ya · n + xa) · n + yb) · n + xb] (the Vulkan pass looks them up too).
+  const std::vector<float>& entries() const { return table_; }
   /// Unsigned coverage from the table, in uv units.
   double unsigned_coverage(const DVec2& a, const DVec2& b, Lookup lookup) const;
   /// Signed like square_sector_minus_triangle (> 0 when (c, a, b) turns counter-clockwise).

@@ -192,6 +192,24 @@ void blend_part(const SvPart& s, VPart& v, int q, const LightMeasure& m, WedgeBl
   v.rect.add(s.rect);                                   // line 14: merge_brect
 }
 
+/// The per-pixel blend by `pass2`: V (and a textured light's per-channel visible fractions) from
+/// the occlusion per channel it returns, as the CPU pass turns its V-buffer into V.
+Image<float> device_pass2(const ShadowContext& ctx, const WedgeBlendPass2& pass2,
+                          const BinnedWedges& bw, const GroupCounts& gcount,
+                          const LightEmission* emission, const LightMeasure& measure,
+                          Image<Vec3>& rgb) {
+  WedgeBlendPass2Input in{bw, gcount, emission, {}};
+  for (int q = 0; q < kParts; ++q) in.parts[q] = measure.part(q);
+  const Image<DVec3> occ = pass2(ctx, in);
+  Image<float> vis(ctx.gbuffer.width, ctx.gbuffer.height, 1.0f);
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (ctx.receivers[i] != kActive) continue;
+    vis[i] = emission ? rgb_visibility(occ[i], emission->total, rgb[i])
+                      : static_cast<float>(1.0 - std::clamp(occ[i].x, 0.0, 1.0));
+  }
+  return vis;
+}
+
 }  // namespace
 
 Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* stats_out,
@@ -249,9 +267,8 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
   start = std::chrono::steady_clock::now();
   PassCounters pc;
   std::vector<WedgeBlendStats> row_stats(bw.tiles_y);
-  if (pass2 && emission) throw Error("wedge_blend: textured lights have no device pass");
   Image<float> vis =
-      pass2 ? pass2(ctx, bw, gcount)
+      pass2 ? device_pass2(ctx, pass2, bw, gcount, emission.get(), measure, rgb_img)
             : run_pass2(
                   ctx, light, bw, pc,
                   [&](size_t i, const PixelLight* pl, const std::vector<uint32_t>& bin,

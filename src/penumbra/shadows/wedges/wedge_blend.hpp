@@ -22,6 +22,7 @@
 // so `wedge_blend` equals `wedges` there (tested).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 
@@ -39,12 +40,21 @@ struct WedgeBlendStats {
   uint64_t overlaps = 0;  // of those, with intersecting rectangles (eq. 3.1 applied)
 };
 
-/// The per-pixel blend (Algorithms 4 lines 2–7, 5, 6) done elsewhere (the Vulkan backend) for an
-/// untextured light: V per pixel from the groups' hard counts and the binned wedges, as the CPU
-/// pass computes it. Null: the CPU's pass.
+/// What the per-pixel blend done elsewhere receives: the binned wedges, the groups' hard counts,
+/// a textured rectangle's emission (null otherwise) and the light's share in each of the four
+/// parts (per channel: emitted power; ¼ for an untextured light).
+struct WedgeBlendPass2Input {
+  const wedge_pass::BinnedWedges& wedges;
+  const wedge_pass::GroupCounts& counts;
+  const LightEmission* emission = nullptr;
+  std::array<DVec3, 4> parts{};
+};
+
+/// The per-pixel blend (Algorithms 4 lines 2–7, 5, 6) done elsewhere (the Vulkan backend): per
+/// active pixel the occluded fraction per channel, Σ part share × V-buffer part, as the CPU pass
+/// computes it (equal channels for an untextured light). Null: the CPU's pass.
 using WedgeBlendPass2 =
-    std::function<Image<float>(const ShadowContext& ctx, const wedge_pass::BinnedWedges& wedges,
-                               const wedge_pass::GroupCounts& counts)>;
+    std::function<Image<DVec3>(const ShadowContext& ctx, const WedgeBlendPass2Input& input)>;
 
 /// Visible fraction of ctx.light for every kActive pixel (others 1). For a textured rectangular
 /// light also the per-channel visible fraction in `lit_rgb` (when given; left untouched for other
@@ -57,8 +67,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
                                     const wedge_pass::CasterMeshes* prepared = nullptr,
                                     const WedgeBlendPass2& pass2 = {});
 
-/// The `wedge_blend` method with its per-pixel pass replaced by `pass2` (see WedgeBlendPass2; a
-/// textured light is refused with an Error).
+/// The `wedge_blend` method with its per-pixel pass replaced by `pass2` (see WedgeBlendPass2).
 std::unique_ptr<ShadowMethod> make_wedge_blend(const MethodOptions& options, WedgeBlendPass2 pass2);
 
 }  // namespace penumbra

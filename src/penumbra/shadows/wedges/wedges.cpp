@@ -33,6 +33,41 @@ struct RgbLight {
   Image<Vec3>* out = nullptr;
 };
 
+/// Without the overlap approximation pass 2's sum as one group: group 0 with the layered count
+/// at every active pixel (WedgePass2Input).
+GroupCounts single_group(const ShadowContext& ctx, const Image<float>& count) {
+  GroupCounts gc;
+  gc.begin.assign(count.size() + 1, 0);
+  for (size_t i = 0; i < count.size(); ++i) {
+    if (ctx.receivers[i] == kActive) {
+      gc.group.push_back(0);
+      gc.value.push_back(count[i]);
+    }
+    gc.begin[i + 1] = static_cast<uint32_t>(gc.group.size());
+  }
+  return gc;
+}
+
+/// Pass 2 by WedgeOptions::pass2: V (and a textured light's per-channel visible fractions) from
+/// the folded per-channel occlusion it returns, as the CPU pass turns its sums into V.
+Image<float> device_pass2(const ShadowContext& ctx, const Light& light, const BinnedWedges& bw,
+                          const WedgeOptions& options, const Image<float>& count,
+                          const GroupCounts& gcount, const RgbLight& rgb,
+                          const CoverageTexture* table) {
+  const GroupCounts single = options.overlap ? GroupCounts{} : single_group(ctx, count);
+  const Image<DVec3> occ =
+      options.pass2(ctx, light,
+                    WedgePass2Input{bw, options.overlap ? gcount : single, options.overlap,
+                                    rgb.out ? rgb.emission : nullptr, table, options.lookup});
+  Image<float> vis(ctx.gbuffer.width, ctx.gbuffer.height, 1.0f);
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (ctx.receivers[i] != kActive) continue;
+    vis[i] = rgb.out ? rgb_visibility(occ[i], rgb.emission->total, (*rgb.out)[i])
+                     : static_cast<float>(1.0 - occ[i].x);
+  }
+  return vis;
+}
+
 /// What every (sub-)light of a frame shares: the per-pixel setup and the casters' adjacency.
 struct FrameShared {
   PixelSetup setup;
@@ -135,8 +170,8 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
 
   // Pass 2 [Assarsson 2003 III §3.2; Forest 2008 Algorithm 3]: per pixel, every wedge of its tile.
   start = std::chrono::steady_clock::now();
-  if (options.pass2 && !options.overlap && !rgb.out && !tex) {
-    Image<float> vis = options.pass2(ctx, light, bw, count);
+  if (options.pass2 && !(rgb.out && rgb.table)) {
+    Image<float> vis = device_pass2(ctx, light, bw, options, count, gcount, rgb, tex);
     st.pass2_ms += elapsed_ms(start);
     return vis;
   }

@@ -36,7 +36,10 @@ namespace penumbra {
 
 namespace wedge_pass {
 struct BinnedWedges;
-}
+struct GroupCounts;
+}  // namespace wedge_pass
+
+struct WedgePass2Input;
 
 struct WedgeOptions {
   /// The wedge construction [wedges/geometry.hpp]: Assarsson 2003 III §3.1 / IV §4.1 (moved
@@ -59,12 +62,28 @@ struct WedgeOptions {
   bool alpha_stsv = true;
   /// The table, built by wedge_visibility when null (the method builds it once).
   std::shared_ptr<const CoverageTexture> table;
-  /// Pass 2 done elsewhere (the Vulkan backend) where it is the plain sum — no overlap
-  /// approximation, analytic coverage, an untextured light: V per pixel of (sub-)light `light`
-  /// from the layered hard counts and the binned wedges. Null: the CPU's pass.
-  std::function<Image<float>(const ShadowContext& ctx, const Light& light,
-                             const wedge_pass::BinnedWedges& wedges, const Image<float>& count)>
+  /// Pass 2 done elsewhere (the Vulkan backend): per pixel of (sub-)light `light` the occluded
+  /// fraction per channel (see WedgePass2Input). Null: the CPU's pass. The RGB coverage texture
+  /// (a textured light with `texture`) stays on the CPU.
+  std::function<Image<DVec3>(const ShadowContext& ctx, const Light& light,
+                             const WedgePass2Input& input)>
       pass2;
+};
+
+/// What pass 2 done elsewhere receives: the binned wedges and, per pixel, the hard counts of the
+/// caster groups (wedge_pass::for_each_group). Without the overlap approximation every wedge is in
+/// group 0 (`grouped` false) and group 0's count is the layered hard count, so folding the groups
+/// by max + ½ min gives the clamped sum; with it, the groups of `wedges` and their counts. The
+/// result per active pixel: the folded occluded fraction per channel (equal channels for an
+/// untextured light) — the CPU's `total`, or its clamped `sum`.
+struct WedgePass2Input {
+  const wedge_pass::BinnedWedges& wedges;
+  const wedge_pass::GroupCounts& counts;
+  bool grouped = false;
+  const LightEmission* emission = nullptr;  // a textured rectangle's (sub-)light, else null
+  /// The coverage texture in place of the analytic area (a rectangle with `texture`), else null.
+  const CoverageTexture* table = nullptr;
+  CoverageTexture::Lookup lookup = CoverageTexture::Lookup::bilinear;
 };
 
 struct WedgeStats {
