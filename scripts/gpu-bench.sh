@@ -24,8 +24,8 @@ mkdir -p "$out"
 if ! command -v glslc >/dev/null || [ ! -f /usr/include/vulkan/vulkan.h ]; then scripts/setup.sh; fi
 scripts/build.sh release --target penumbra_cli bench_vulkan test_vulkan_compute \
   test_vulkan_depth_maps test_vulkan_gears test_vulkan_dcs test_vulkan_wedges test_vulkan_ssm \
-  test_vulkan_shadow_volume test_vulkan_silhouette_map
-for t in compute depth_maps gears dcs wedges ssm shadow_volume silhouette_map; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
+  test_vulkan_shadow_volume test_vulkan_silhouette_map test_vulkan_meshes
+for t in compute depth_maps gears dcs wedges ssm shadow_volume silhouette_map meshes; do build/release/tests/test_vulkan_$t --gtest_brief=1; done
 # bunny and dragon (scripts/fetch-models.sh); without them (an offline machine) the built-in spheres.
 scenes="bunny|dragon"
 models="${PENUMBRA_MODELS:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/models}"
@@ -83,7 +83,7 @@ def check(method, scene, size, k):
 print(f"Device: {device}. Vulkan: wall ms per frame (host, around upload, GPU work and readback) "
       "and the sum of the GPU stage times (timestamps); CPU: wall ms per frame of the CPU method on "
       "the same frame. Check: CPU vs Vulkan differences on that frame.\n")
-print("Table 1 (gears, k = 16, default grid: size / 8 cells per side): ms per frame vs output size\n")
+print("Table 1 (gears, k = 16, default grids: Vulkan size / 2 cells per side up to 255, CPU size / 8): ms per frame vs output size\n")
 print("| scene | size | Vulkan wall ms | Vulkan GPU ms | CPU ms | CPU / Vulkan | check |")
 print("|---|---|---|---|---|---|---|")
 for scene in scenes:
@@ -108,7 +108,7 @@ for scene in scenes:
         cells = [f"{sum(b.get(k, 0.0) for k in s[col]):.2f}" if b else "–" for s in steps]
         print(f"| {scene} | {backend.lower()} | " + " | ".join(cells) + " |")
 
-print(f"\nTable 5 (gears, {t5}², default grid: size / 8 cells per side): ms per frame vs bitmask resolution k×k (Vulkan / CPU)\n")
+print(f"\nTable 5 (gears, {t5}², default grids): ms per frame vs bitmask resolution k×k (Vulkan / CPU)\n")
 print("| scene | " + " | ".join(f"{k}×{k}" for k in (4, 8, 16, 32)) + " |")
 print("|---|" + "---|" * 4)
 for scene in scenes:
