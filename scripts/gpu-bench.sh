@@ -141,7 +141,7 @@ for method in ("gears", "dcs", "wedges", "wedge_blend", "ssm", "shadow_map", "pc
             return f"{a['real_time'] / b['real_time']:.2f}×" if a and b else "–"
         print(f"| {method} | {scene} | {ms(g)} | {ms(c)} | {ratio(c, g)} | {ratio(rt, g)} | "
               f"{ratio(gg, g)} | {check(method, scene, int(r), 16)} |")
-print(f"\nThe GEARS paper's scene classes (gears, {c}², k = 16): ms per frame; vs raytrace = CPU "
+print(f"\nThe GEARS paper's scene classes (gears, {c_size}², k = 16): ms per frame; vs raytrace = CPU "
       "raytrace ms / Vulkan gears ms\n")
 print("| scene | Vulkan wall ms | CPU gears ms | CPU raytrace ms | vs raytrace | check |")
 print("|---|---|---|---|---|---|")
