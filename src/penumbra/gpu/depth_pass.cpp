@@ -9,6 +9,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/graphics.hpp"
 #include "penumbra/gpu/shaders.hpp"
+#include "penumbra/render/receivers.hpp"
 
 namespace penumbra::gpu {
 
@@ -211,6 +212,18 @@ GpuDepthMap record_depth_map(VulkanContext& ctx, DepthPipeline& pipe, CommandLis
   }
   end_rendering_into(cmd, color, res, res, out.depth);
   cl.barrier();
+  return out;
+}
+
+LookupPoints lookup_points(const GBuffer& g, const Image<uint8_t>& receivers) {
+  LookupPoints out;
+  for (size_t i = 0; i < g.pixel_count(); ++i) {
+    if (receivers[i] != kActive) continue;
+    out.active.push_back(static_cast<uint32_t>(i));
+    const Vec3 p = g.shadow_origin(i), n = g.geo_normal[i];
+    out.cover.push_back(p);
+    out.points.insert(out.points.end(), {p.x, p.y, p.z, 0.0f, n.x, n.y, n.z, 0.0f});
+  }
   return out;
 }
 

@@ -11,10 +11,12 @@
 
 #include <deque>
 #include <memory>
+#include <vector>
 
 #include "penumbra/gpu/commands.hpp"
 #include "penumbra/gpu/graphics.hpp"
 #include "penumbra/raster/depth_map.hpp"
+#include "penumbra/render/gbuffer.hpp"
 #include "penumbra/scene/scene.hpp"
 
 namespace penumbra::gpu {
@@ -54,6 +56,15 @@ struct GpuDepthMap {
   Buffer depth;  // resolution² floats, row-major, row 0 at the top (the CPU map's layout)
   size_t triangles = 0;
 };
+
+/// The receivers a depth-map lookup shades: the G-buffer's active pixels, their shadow origins
+/// (the map's cover), and per receiver its origin and geometric normal as the shaders read them.
+struct LookupPoints {
+  std::vector<uint32_t> active;
+  std::vector<Vec3> cover;
+  std::vector<float> points;  // x, y, z, 0, normal x, y, z, 0 per receiver
+};
+LookupPoints lookup_points(const GBuffer& g, const Image<uint8_t>& receivers);
 
 /// Records the depth map of ctx's casters from `light_point` into `cl`. Buffers and images the
 /// submission needs go to `keep`/`images`, which must outlive it.

@@ -74,17 +74,7 @@ class DepthMapVk final : public ShadowMethod {
     vis.lit = Image<float>(g.width, g.height, 1.0f);
 
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint32_t> active;
-    std::vector<Vec3> cover;
-    std::vector<float> points;
-    for (size_t i = 0; i < g.pixel_count(); ++i) {
-      if (ctx.receivers[i] != kActive) continue;
-      active.push_back(static_cast<uint32_t>(i));
-      const Vec3 p = g.shadow_origin(i);
-      const Vec3 n = g.geo_normal[i];
-      cover.push_back(p);
-      points.insert(points.end(), {p.x, p.y, p.z, 0.0f, n.x, n.y, n.z, 0.0f});
-    }
+    const auto [active, cover, points] = lookup_points(g, ctx.receivers);
     std::deque<Buffer> keep;
     std::deque<Image2D> images;
     keep.push_back(vk.upload(points));
