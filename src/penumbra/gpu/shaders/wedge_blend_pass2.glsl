@@ -10,8 +10,8 @@
 // angles come from wedge_coverage.glsl's double atan2 (GLSL has none), within a few ulps of the
 // CPU's. The walk goes in steps (open a group, one bin entry of one pass, close the group) while the
 // estimated loop iterations spent stay below `budget`; the V-buffer, the open SV-buffer and the
-// cursors stay in `state` between dispatches (the first dispatch starts them, kStore keeps them), and a pixel whose walk is done writes its occlusion
-// per channel (Σ part share × V part).
+// cursors stay in `state` between dispatches (the first dispatch starts them, kStore keeps them),
+// and a pixel whose walk is done writes its occlusion per channel (Σ part share × V part).
 #include "common.glsl"
 #include "dcs.glsl"
 #include "wedge_coverage.glsl"
