@@ -270,6 +270,266 @@ SideTriangles side_cull_data(const gears::GridCamera& cam, int side, bool shrink
                        solids.count() > 0 ? solids.of_triangle.data() : nullptr);
 }
 
+/// The frame's light and samples, as the CPU method plans its passes: row spans for the regular
+/// grid of shared samples (k ≤ 32), sample by sample otherwise (one sample at the light for a
+/// point light), the LUT [Wang 2014 §4.3] where sample positions are shared.
+struct Plan {
+  bool sphere = false, point = false, per_pixel = false, use_lut = false, use_rows = false;
+  int n = 0, k = 0, ns = 0;  // samples, grid side, samples the rasterizer tests
+  uint32_t words = 0;        // 32-bit mask words per pixel of the per-sample rasterizer
+  const Texture* emission = nullptr;
+};
+Plan plan_of(const ShadowContext& ctx, bool lut) {
+  Plan p;
+  const Light& light = ctx.light;
+  p.n = ctx.samples.count();
+  p.k = ctx.samples.k();
+  if (p.k > 64) throw Error("gears on vulkan: at most 64×64 light samples (--samples ≤ 64)");
+  p.sphere = light.shape == LightShape::sphere;
+  p.point = light.shape == LightShape::point;
+  p.per_pixel = ctx.samples.per_pixel();
+  p.use_lut = lut && !p.per_pixel && !p.point;
+  p.use_rows = ctx.samples.spec().pattern == SamplePattern::grid && !p.per_pixel && p.k <= 32 &&
+               !p.point && !p.use_lut;
+  p.ns = p.point ? 1 : p.n;
+  p.words = static_cast<uint32_t>((p.ns + 31) / 32);
+  p.emission = light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
+  return p;
+}
+
+/// Per active pixel: its shadow origin in light space, and the 20 floats the shaders read — the
+/// origin, the light's corner and edges from it (the sphere's silhouette disk seen from the
+/// pixel), and its slab bounds (set per side).
+void pixel_data(const ShadowContext& ctx, const gears::LightSpace& space, const Plan& plan,
+                const std::vector<uint32_t>& active, std::vector<Vec3>& p_light,
+                std::vector<float>& pix) {
+  const GBuffer& g = ctx.gbuffer;
+  p_light.resize(active.size());
+  pix.clear();
+  pix.reserve(active.size() * 20);
+  for (size_t a = 0; a < active.size(); ++a) {
+    const Vec3 p = space.to_light(g.shadow_origin(active[a]));
+    p_light[a] = p;
+    Vec3 w = -p, eu(1.0f, 0.0f, 0.0f), ev(0.0f, 1.0f, 0.0f);
+    if (plan.point) {
+      eu = ev = Vec3(0.0f);
+    } else if (plan.sphere) {
+      // The sphere's silhouette disk as seen from this pixel (scene/light.hpp).
+      const LightFrame f = light_frame(ctx.light, g.shadow_origin(active[a]));
+      auto dir = [&](const Vec3& d) {
+        return Vec3(glm::dot(space.inv_u, d), glm::dot(space.inv_v, d), glm::dot(space.inv_n, d));
+      };
+      w = space.to_light(f.corner) - p;
+      eu = dir(f.edge_u);
+      ev = dir(f.edge_v);
+    }
+    push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
+    push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
+  }
+}
+
+/// The light samples as the shaders read them: the shared positions and their box, the emitting
+/// ones (per row for the row rasterizer, as bits of 64-bit words for the weighting), and the
+/// per-sample rasterizer's positions and emitting bits — shared, or per pixel for per-pixel
+/// patterns and a point light's one sample, as the CPU's work items set them.
+struct SampleSetup {
+  std::vector<Vec2> shared;
+  Vec2 uv_lo{0.0f}, uv_hi{1.0f};  // per-pixel samples: the unit square holds them all
+  std::vector<uint32_t> emit_rows;
+  std::vector<uint64_t> emit_words;
+  int emit_count = 0;
+  std::vector<float> sample_uv;
+  std::vector<uint32_t> emit_bits;
+};
+SampleSetup sample_setup(const ShadowContext& ctx, const Plan& plan, const LightFrame& frame0,
+                         const std::vector<uint32_t>& active, int words64) {
+  const GBuffer& g = ctx.gbuffer;
+  const int n = plan.n, k = plan.k;
+  SampleSetup out;
+  out.shared.resize(n);
+  ctx.samples.pixel_samples(0, 0, out.shared);
+  if (!plan.per_pixel) {
+    out.uv_lo = Vec2(kInfinity), out.uv_hi = Vec2(-kInfinity);
+    for (const Vec2& s : out.shared)
+      out.uv_lo = glm::min(out.uv_lo, s), out.uv_hi = glm::max(out.uv_hi, s);
+  }
+  if (plan.point) out.uv_lo = out.uv_hi = Vec2(0.0f);
+  out.emit_rows.assign(k, 0);
+  out.emit_words.assign(words64, 0);
+  for (int s = 0; s < n; ++s)
+    if (frame0.emits(out.shared[s])) {
+      if (plan.use_rows) out.emit_rows[s / k] |= 1u << (s % k);
+      out.emit_words[s >> 6] |= uint64_t{1} << (s & 63);
+      ++out.emit_count;
+    }
+  if (plan.use_rows) {
+    for (const Vec2& s : out.shared) out.sample_uv.insert(out.sample_uv.end(), {s.x, s.y});
+    return out;
+  }
+  const bool own = plan.per_pixel || plan.point;
+  std::vector<Vec2> uvs(n);
+  for (size_t a = 0; a < (own ? active.size() : 1); ++a) {
+    const uint32_t pixel = own ? active[a] : 0;
+    if (plan.per_pixel)
+      ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
+                                static_cast<int>(pixel / g.width), uvs);
+    else
+      uvs = out.shared;
+    const LightFrame frame = plan.sphere ? light_frame(ctx.light, g.shadow_origin(pixel)) : frame0;
+    std::vector<uint32_t> bits(plan.words, 0);
+    for (int s = 0; s < plan.ns; ++s) {
+      out.sample_uv.insert(out.sample_uv.end(),
+                           {plan.point ? 0.0f : uvs[s].x, plan.point ? 0.0f : uvs[s].y});
+      const bool emits = plan.point || (own ? frame.emits(uvs[s]) : frame0.emits(uvs[s]));
+      if (emits) bits[s >> 5] |= 1u << (s & 31);
+    }
+    out.emit_bits.insert(out.emit_bits.end(), bits.begin(), bits.end());
+  }
+  return out;
+}
+
+/// The CPU's EdgeLut for the shared samples, appended to `texels` after the alpha textures (its
+/// header in texels[0..3]): 64-bit words as their two 32-bit halves, the same bits — 32-bit word w
+/// holds samples 32·w … 32·w + 31 as the shader's masks.
+void append_lut(std::span<const Vec2> shared, int resolution, std::vector<uint32_t>& texels) {
+  const gears::EdgeLut lut(shared, resolution, resolution);
+  texels[0] = static_cast<uint32_t>(texels.size());
+  texels[1] = static_cast<uint32_t>(lut.angles());
+  texels[2] = static_cast<uint32_t>(lut.offsets());
+  texels[3] = std::bit_cast<uint32_t>(lut.radius());
+  for (uint64_t w : lut.table())
+    texels.insert(texels.end(), {static_cast<uint32_t>(w), static_cast<uint32_t>(w >> 32)});
+}
+
+/// The GPU's masks (`rows`: row spans or 32-bit words per pixel, then the semi-opaque per-sample
+/// transmittances) into `masks`, and V weighted exactly as the CPU gears weights it.
+void read_back(const ShadowContext& ctx, const Plan& plan, const SampleSetup& ss,
+               const std::vector<uint32_t>& active, const std::vector<uint32_t>& rows,
+               size_t mask_words, bool semi_opaque, SampleMasks& masks, Visibility& vis) {
+  const GBuffer& g = ctx.gbuffer;
+  const int n = plan.n, k = plan.k;
+  std::vector<Vec2> uvs(n);
+  std::vector<float> sample_vis(n);
+  for (size_t a = 0; a < active.size(); ++a) {
+    const uint32_t pixel = active[a];
+    uint64_t* m = masks.pixel(pixel);
+    if (plan.use_rows) {  // row j holds samples j·k … j·k + k − 1
+      for (int j = 0; j < k; ++j) {
+        const uint64_t bits = rows[a * k + j];
+        const int p = j * k;
+        m[p >> 6] |= bits << (p & 63);
+        if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
+      }
+    } else if (plan.point) {  // the light's one sample stands for all of them
+      if (rows[a] & 1u)
+        for (int s = 0; s < n; ++s) m[s >> 6] |= uint64_t{1} << (s & 63);
+    } else {
+      for (uint32_t w = 0; w < plan.words; ++w)
+        m[w >> 1] |= uint64_t{rows[a * plan.words + w]} << (32 * (w & 1));
+    }
+    if (!plan.emission && !plan.per_pixel && !plan.point && !semi_opaque) {
+      int blocked = 0;
+      for (int i = 0; i < masks.words_per_pixel(); ++i)
+        blocked += std::popcount(m[i] & ss.emit_words[i]);
+      SampleWeights w;
+      w.visible = Vec3(static_cast<float>(ss.emit_count - blocked));
+      w.total = Vec3(static_cast<float>(ss.emit_count));
+      vis.lit[pixel] = w.visible_fraction();
+      continue;
+    }
+    const LightFrame frame = light_frame(ctx.light, g.shadow_origin(pixel));
+    ctx.samples.pixel_samples(static_cast<int>(pixel % g.width), static_cast<int>(pixel / g.width),
+                              uvs);
+    // Unblocked samples: the product of the semi-opaque layers they cross (a point light's one
+    // sample standing for all), as the CPU shades them.
+    const uint32_t* trans = semi_opaque ? rows.data() + mask_words + a * plan.ns : nullptr;
+    for (int s = 0; s < n; ++s)
+      sample_vis[s] = masks.blocked(pixel, s)
+                          ? 0.0f
+                          : (trans ? std::bit_cast<float>(trans[plan.point ? 0 : s]) : 1.0f);
+    const SampleWeights w =
+        accumulate_sample_weights(frame, plan.emission, ctx.light.radiance, uvs, sample_vis);
+    vis.lit[pixel] = w.visible_fraction();
+    if (plan.emission) vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
+  }
+}
+
+/// What the rasterization passes read and write (device addresses) and how they walk.
+struct RasterInputs {
+  VkDeviceAddress pix, tris, cell, begin, end, vals, rows, emit, samples, alpha, texels;
+  uint32_t na;
+  Vec2 uv_lo, uv_hi;
+  bool deepest_first, pixel_cull, hidden_cull, translucent;
+};
+
+/// The rasterization of every pixel's cell list, in chunks of the longest list (llvmpipe's loop
+/// limit): row spans (gears_raster) or sample by sample (gears_samples), as `plan` says.
+void record_rasterization(Programs& programs, CommandList& raster, const Plan& plan,
+                          const RasterInputs& in, uint32_t longest) {
+  const uint32_t culls = (in.deepest_first ? 2u : 0u) | (in.pixel_cull ? 4u : 0u);
+  if (!plan.use_rows) {
+    const uint32_t chunk = samples_chunk(plan.ns);
+    for (uint32_t first = 0; first < longest; first += chunk) {
+      const SamplesPush sp{in.pix,
+                           in.tris,
+                           in.cell,
+                           in.begin,
+                           in.end,
+                           in.vals,
+                           in.rows,
+                           in.emit,
+                           in.samples,
+                           in.alpha,
+                           in.texels,
+                           in.na,
+                           static_cast<uint32_t>(plan.ns),
+                           plan.words,
+                           first,
+                           chunk,
+                           (plan.per_pixel || plan.point ? 1u : 0u) | culls,
+                           {in.uv_lo.x, in.uv_lo.y},
+                           {in.uv_hi.x, in.uv_hi.y}};
+      raster.dispatch(programs.get(Shader::gears_samples), sp, in.na);
+      raster.barrier();
+    }
+    return;
+  }
+  const uint32_t chunk = rows_chunk(plan.k, in.translucent);
+  for (uint32_t first = 0; first < longest; first += chunk) {
+    const RasterPush rp{in.pix,
+                        in.tris,
+                        in.cell,
+                        in.begin,
+                        in.end,
+                        in.vals,
+                        in.rows,
+                        in.emit,
+                        in.na,
+                        plan.k,
+                        first,
+                        chunk,
+                        {in.uv_lo.x, in.uv_lo.y},
+                        {in.uv_hi.x, in.uv_hi.y},
+                        in.alpha,
+                        in.texels,
+                        in.samples,
+                        culls | (in.hidden_cull ? 8u : 0u)};
+    raster.dispatch(programs.get(Shader::gears_raster), rp, in.na);
+    raster.barrier();
+  }
+}
+
+/// The light's corners in light space, for the extrusion (a sphere's bounding cube, z in units of
+/// the light-space axis: ±r).
+std::vector<Vec3> light_corners(const Plan& plan, float r) {
+  if (plan.point) return {Vec3(0.0f)};
+  std::vector<Vec3> corners;
+  for (float z : plan.sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
+    for (int c = 0; c < 4; ++c)
+      corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
+  return corners;
+}
+
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
@@ -296,22 +556,12 @@ class GearsVk final : public ShadowMethod {
     Programs& programs = backend_.programs();
     const GBuffer& g = ctx.gbuffer;
     const Light& light = ctx.light;
-    const int n = ctx.samples.count();
-    const int k = ctx.samples.k();
-    if (k > 64) throw Error("gears on vulkan: at most 64×64 light samples (--samples ≤ 64)");
-    const bool sphere = light.shape == LightShape::sphere;
-    const bool point = light.shape == LightShape::point;
-    const bool per_pixel = ctx.samples.per_pixel();
-    // As on the CPU: row spans for the regular grid of shared samples (k ≤ 32), sample by sample
-    // otherwise (one sample at the light for a point light).
-    // The LUT [Wang 2014 §4.3] needs shared sample positions, as on the CPU.
-    const bool use_lut = lut_ && !per_pixel && !point;
-    const bool use_rows = ctx.samples.spec().pattern == SamplePattern::grid && !per_pixel &&
-                          k <= 32 && !point && !use_lut;
-    const int ns = point ? 1 : n;
-    const uint32_t words = static_cast<uint32_t>((ns + 31) / 32);
-    const Texture* emission =
-        light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
+    const Plan plan = plan_of(ctx, lut_);
+    const bool sphere = plan.sphere, point = plan.point, per_pixel = plan.per_pixel;
+    const bool use_rows = plan.use_rows;
+    const int n = plan.n, k = plan.k, ns = plan.ns;
+    const uint32_t words = plan.words;
+    const Texture* emission = plan.emission;
 
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
@@ -331,28 +581,9 @@ class GearsVk final : public ShadowMethod {
       toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
     }
     const LightSpace space = make_light_space(light, frame0, toward, +1);
-    std::vector<Vec3> p_light(active.size());
+    std::vector<Vec3> p_light;
     std::vector<float> pix;
-    pix.reserve(active.size() * 20);
-    for (size_t a = 0; a < active.size(); ++a) {
-      const Vec3 p = space.to_light(g.shadow_origin(active[a]));
-      p_light[a] = p;
-      Vec3 w = -p, eu(1.0f, 0.0f, 0.0f), ev(0.0f, 1.0f, 0.0f);
-      if (point) {
-        eu = ev = Vec3(0.0f);
-      } else if (sphere) {
-        // The sphere's silhouette disk as seen from this pixel (scene/light.hpp).
-        const LightFrame f = light_frame(light, g.shadow_origin(active[a]));
-        auto dir = [&](const Vec3& d) {
-          return Vec3(glm::dot(space.inv_u, d), glm::dot(space.inv_v, d), glm::dot(space.inv_n, d));
-        };
-        w = space.to_light(f.corner) - p;
-        eu = dir(f.edge_u);
-        ev = dir(f.edge_v);
-      }
-      push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
-      push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
-    }
+    pixel_data(ctx, space, plan, active, p_light, pix);
     Occluders occ = gather_occluders(ctx.scene, space);
     const std::vector<float>& tris = occ.tris;
     std::vector<uint32_t>& texels = occ.texels;
@@ -371,81 +602,21 @@ class GearsVk final : public ShadowMethod {
         pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
       }
     }
-    // Light corners in light space, for the extrusion.
-    std::vector<Vec3> corners;
     const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
-    if (point) {
-      corners = {Vec3(0.0f)};
-    } else {
-      for (float z : sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
-        for (int c = 0; c < 4; ++c)
-          corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
-    }
-    // Shared sample positions: their bounding box and the rows of samples the light emits from.
-    std::vector<Vec2> shared(n);
-    ctx.samples.pixel_samples(0, 0, shared);
-    Vec2 uv_lo(0.0f), uv_hi(1.0f);  // per-pixel samples: the unit square holds them all
-    if (!per_pixel) {
-      uv_lo = Vec2(kInfinity), uv_hi = Vec2(-kInfinity);
-      for (const Vec2& s : shared) uv_lo = glm::min(uv_lo, s), uv_hi = glm::max(uv_hi, s);
-    }
-    if (point) uv_lo = uv_hi = Vec2(0.0f);
-    std::vector<uint32_t> emit_rows(k, 0);
-    std::vector<uint64_t> emit_words(masks.words_per_pixel(), 0);
-    int emit_count = 0;
-    for (int s = 0; s < n; ++s)
-      if (frame0.emits(shared[s])) {
-        if (use_rows) emit_rows[s / k] |= 1u << (s % k);
-        emit_words[s >> 6] |= uint64_t{1} << (s & 63);
-        ++emit_count;
-      }
-    // The per-sample rasterizer's samples and emitting bits: shared, or per pixel (per-pixel
-    // patterns, and a point light's one sample) as the CPU's work items set them.
-    std::vector<float> sample_uv;
-    std::vector<uint32_t> emit_bits;
-    if (!use_rows) {
-      const bool own = per_pixel || point;
-      std::vector<Vec2> uvs(n);
-      for (size_t a = 0; a < (own ? active.size() : 1); ++a) {
-        const uint32_t pixel = own ? active[a] : 0;
-        if (per_pixel)
-          ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
-                                    static_cast<int>(pixel / g.width), uvs);
-        else
-          uvs = shared;
-        const LightFrame frame = sphere ? light_frame(light, g.shadow_origin(pixel)) : frame0;
-        std::vector<uint32_t> bits(words, 0);
-        for (int s = 0; s < ns; ++s) {
-          sample_uv.insert(sample_uv.end(), {point ? 0.0f : uvs[s].x, point ? 0.0f : uvs[s].y});
-          const bool emits = point || (own ? frame.emits(uvs[s]) : frame0.emits(uvs[s]));
-          if (emits) bits[s >> 5] |= 1u << (s & 31);
-        }
-        emit_bits.insert(emit_bits.end(), bits.begin(), bits.end());
-      }
-    } else {
-      for (const Vec2& s : shared) sample_uv.insert(sample_uv.end(), {s.x, s.y});
-    }
+    const std::vector<Vec3> corners = light_corners(plan, r);
+    const SampleSetup ss = sample_setup(ctx, plan, frame0, active, masks.words_per_pixel());
+    const Vec2 uv_lo = ss.uv_lo, uv_hi = ss.uv_hi;
     // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
     // occluders keep the list's order, so that their products are formed in the CPU's order.
     const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
-    if (use_lut) {
-      const gears::EdgeLut lut(shared, lut_resolution_, lut_resolution_);
-      texels[0] = static_cast<uint32_t>(texels.size());
-      texels[1] = static_cast<uint32_t>(lut.angles());
-      texels[2] = static_cast<uint32_t>(lut.offsets());
-      texels[3] = std::bit_cast<uint32_t>(lut.radius());
-      // 64-bit words as their two 32-bit halves: the same bits, 32-bit word w = sample bits
-      // 32·w … 32·w + 31 as the shader's masks. A row of the table: ⌈n/64⌉ words, 2× as many here.
-      for (uint64_t w : lut.table())
-        texels.insert(texels.end(), {static_cast<uint32_t>(w), static_cast<uint32_t>(w >> 32)});
-    }
+    if (plan.use_lut) append_lut(ss.shared, lut_resolution_, texels);
     vis.times.add("light_space_setup", elapsed_ms(t0));
 
     t0 = std::chrono::steady_clock::now();
     const uint32_t na = static_cast<uint32_t>(active.size());
-    const Buffer emit_buf = use_rows ? vk.upload(emit_rows) : vk.upload(emit_bits);
+    const Buffer emit_buf = use_rows ? vk.upload(ss.emit_rows) : vk.upload(ss.emit_bits);
     const Buffer texel_buf = vk.upload(texels);
-    const Buffer sample_buf = vk.upload(sample_uv);
+    const Buffer sample_buf = vk.upload(ss.sample_uv);
     const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
     const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
     // Semi-opaque occluders: each pixel's per-sample transmittances (floats, 1 at first) after
@@ -573,34 +744,7 @@ class GearsVk final : public ShadowMethod {
 
         // Submission 3: the rasterization, in chunks of each cell's list.
         CommandList raster(vk);
-        const uint32_t chunk = samples_chunk(ns);
-        for (uint32_t first = 0; first < longest && !use_rows; first += chunk) {
-          const SamplesPush sp{
-              pix_buf.address(),
-              tri_buf.address(),
-              cell_buf.address(),
-              begin.address(),
-              end.address(),
-              sorted_vals.address(),
-              rows_buf.address(),
-              emit_buf.address(),
-              sample_buf.address(),
-              alpha_buf.address(),
-              texel_buf.address(),
-              na,
-              static_cast<uint32_t>(ns),
-              words,
-              first,
-              chunk,
-              (per_pixel || point ? 1u : 0u) | (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u),
-              {uv_lo.x, uv_lo.y},
-              {uv_hi.x, uv_hi.y}};
-          raster.dispatch(programs.get(Shader::gears_samples), sp, na);
-          raster.barrier();
-        }
-        const uint32_t row_chunk = rows_chunk(k, translucent);
-        for (uint32_t first = 0; first < longest && use_rows; first += row_chunk) {
-          const RasterPush rp{pix_buf.address(),
+        const RasterInputs in{pix_buf.address(),
                               tri_buf.address(),
                               cell_buf.address(),
                               begin.address(),
@@ -608,20 +752,17 @@ class GearsVk final : public ShadowMethod {
                               sorted_vals.address(),
                               rows_buf.address(),
                               emit_buf.address(),
-                              na,
-                              k,
-                              first,
-                              row_chunk,
-                              {uv_lo.x, uv_lo.y},
-                              {uv_hi.x, uv_hi.y},
+                              sample_buf.address(),
                               alpha_buf.address(),
                               texel_buf.address(),
-                              sample_buf.address(),
-                              (deepest_first ? 2u : 0u) | (pixel_cull_ ? 4u : 0u) |
-                                  (pixel_cull_ && hidden_cull_ ? 8u : 0u)};
-          raster.dispatch(programs.get(Shader::gears_raster), rp, na);
-          raster.barrier();
-        }
+                              na,
+                              uv_lo,
+                              uv_hi,
+                              deepest_first,
+                              pixel_cull_,
+                              pixel_cull_ && hidden_cull_,
+                              translucent};
+        record_rasterization(programs, raster, plan, in, longest);
         raster.mark("rasterize");
         raster.submit(&vis.times);
       }
@@ -629,53 +770,10 @@ class GearsVk final : public ShadowMethod {
     }
     vis.times.add("wall_gpu", wall_gpu);
 
-    // ---- Readback: rows → SampleMasks (bit i·k + j... row-major: sample s = j·k + i).
+    // ---- Readback: the masks, and V weighted as on the CPU.
     t0 = std::chrono::steady_clock::now();
     const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, mask_words + trans_words);
-    std::vector<Vec2> uvs(n);
-    std::vector<float> sample_vis(n);
-    for (size_t a = 0; a < active.size(); ++a) {
-      const uint32_t pixel = active[a];
-      uint64_t* m = masks.pixel(pixel);
-      if (use_rows) {
-        for (int j = 0; j < k; ++j) {
-          const uint64_t bits = rows[a * k + j];
-          const int p = j * k;
-          m[p >> 6] |= bits << (p & 63);
-          if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
-        }
-      } else if (point) {  // the light's one sample stands for all of them
-        if (rows[a] & 1u)
-          for (int s = 0; s < n; ++s) m[s >> 6] |= uint64_t{1} << (s & 63);
-      } else {
-        for (uint32_t w = 0; w < words; ++w)
-          m[w >> 1] |= uint64_t{rows[a * words + w]} << (32 * (w & 1));
-      }
-      if (!emission && !per_pixel && !point && !semi_opaque) {
-        int blocked = 0;
-        for (int i = 0; i < masks.words_per_pixel(); ++i)
-          blocked += std::popcount(m[i] & emit_words[i]);
-        SampleWeights w;
-        w.visible = Vec3(static_cast<float>(emit_count - blocked));
-        w.total = Vec3(static_cast<float>(emit_count));
-        vis.lit[pixel] = w.visible_fraction();
-        continue;
-      }
-      const LightFrame frame = light_frame(light, g.shadow_origin(pixel));
-      ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
-                                static_cast<int>(pixel / g.width), uvs);
-      // Unblocked samples: the product of the semi-opaque layers they cross (a point light's one
-      // sample standing for all), as the CPU shades them.
-      const uint32_t* trans = semi_opaque ? rows.data() + mask_words + a * ns : nullptr;
-      for (int s = 0; s < n; ++s)
-        sample_vis[s] = masks.blocked(pixel, s)
-                            ? 0.0f
-                            : (trans ? std::bit_cast<float>(trans[point ? 0 : s]) : 1.0f);
-      const SampleWeights w =
-          accumulate_sample_weights(frame, emission, light.radiance, uvs, sample_vis);
-      vis.lit[pixel] = w.visible_fraction();
-      if (emission) vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
-    }
+    read_back(ctx, plan, ss, active, rows, mask_words, semi_opaque, masks, vis);
     vis.times.add("wall_readback", elapsed_ms(t0));
     vis.counters["triangles"] = tri_count;
     vis.counters["active_pixels"] = na;
