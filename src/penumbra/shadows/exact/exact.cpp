@@ -264,8 +264,8 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
     std::vector<DirectedEdge> edges;
     std::vector<UvEdge> uv;
-    std::vector<uint32_t> edge_prim, uv_prim;   // the triangle each of edges, uv comes from
-    std::vector<uint32_t> local, parent, kept;  // union-find over the kept triangles (groups)
+    std::vector<uint32_t> edge_prim, uv_prim;  // the triangle each of edges, uv comes from
+    std::vector<uint64_t> union_find;  // per triangle: epoch << 32 | parent, kept ones (groups)
     ClipperLib::Paths loops;
     ClipperLib::Path poly;
   };
@@ -273,6 +273,7 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   if (sc.stamp.size() < occluders.size()) sc.stamp.resize(occluders.size(), 0);
   if (++sc.epoch >= (1u << 30)) {  // epochs only grow: stamps of earlier pixels never match
     std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
+    std::fill(sc.union_find.begin(), sc.union_find.end(), 0u);
     sc.epoch = 1;
   }
   const uint32_t mark = sc.epoch << 2;
@@ -492,38 +493,38 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
   // the outline of the sum of its positively oriented polygons. Replaces each edge's triangle
   // by its set's label.
   const auto label_cancellation_groups = [&](std::vector<uint32_t>& prim_of_edge) {
-    if (sc.local.size() < occluders.size()) sc.local.resize(occluders.size());
-    sc.parent.clear();
-    sc.kept.clear();
-    const auto add = [&](uint32_t prim) {
-      sc.local[prim] = static_cast<uint32_t>(sc.parent.size());
-      sc.parent.push_back(static_cast<uint32_t>(sc.parent.size()));
-      sc.kept.push_back(prim);
-    };
-    for (size_t i = 0; i < clipped_count; ++i) add(sc.tri[i]);
-    for (const OpenTriangle& t : sc.open) add(t.prim);
-    for (const uint32_t prim : sc.inside) add(prim);
+    // Union-find indexed by triangle, each entry tagged with the pixel's epoch: the sweep reads
+    // only which edges share a label (the partition), and the tag says at once whether a
+    // neighbour is listed, without a second lookup through a local index.
+    const uint64_t tag = static_cast<uint64_t>(sc.epoch) << 32;
+    std::vector<uint64_t>& uf = sc.union_find;
+    if (uf.size() < occluders.size()) uf.resize(occluders.size(), 0);
+    for (size_t i = 0; i < clipped_count; ++i) uf[sc.tri[i]] = tag | sc.tri[i];
+    for (const OpenTriangle& t : sc.open) uf[t.prim] = tag | t.prim;
+    for (const uint32_t prim : sc.inside) uf[prim] = tag | prim;
     const auto find = [&](uint32_t i) {
-      while (sc.parent[i] != i) i = sc.parent[i] = sc.parent[sc.parent[i]];
-      return i;
+      for (;;) {
+        const uint32_t up = static_cast<uint32_t>(uf[i]);
+        if (up == i) return i;
+        const uint32_t upper = static_cast<uint32_t>(uf[up]);
+        uf[i] = tag | upper;
+        i = upper;
+      }
     };
     // (A triangle stamped but clipped to nothing is in no list and joins nothing: it emitted
     // nothing, and an edge it cancelled was clipped away in its neighbour too.)
-    const auto listed = [&](uint32_t prim) {
-      return sc.local[prim] < sc.kept.size() && sc.kept[sc.local[prim]] == prim;
-    };
     // Each shared edge once, from its triangle with the larger index (kNoNeighbour is larger
     // than any): both triangles are listed or the edge joins nothing either way.
     const auto join = [&](uint32_t prim) {
       const uint32_t own = sc.stamp[prim];
       for (const uint32_t nb : neighbours[prim])
-        if (nb < prim && sc.stamp[nb] == own && listed(nb))
-          sc.parent[find(sc.local[prim])] = find(sc.local[nb]);
+        if (nb < prim && sc.stamp[nb] == own && (uf[nb] & ~0xffffffffull) == tag)
+          uf[find(prim)] = tag | find(nb);
     };
     for (size_t i = 0; i < clipped_count; ++i) join(sc.tri[i]);
     for (const OpenTriangle& t : sc.open) join(t.prim);
     for (const uint32_t prim : sc.inside) join(prim);
-    for (uint32_t& e : prim_of_edge) e = find(sc.local[e]);
+    for (uint32_t& e : prim_of_edge) e = find(e);
   };
 
   if (open_ok) {
