@@ -105,9 +105,10 @@ uint32_t samples_chunk(int samples) {
 /// cull it for their ≤ 32 samples), so shorter lists pay for the extra pairs: lavapipe, bunny
 /// 128², 16×16 samples: rasterization 9–10 s on 16² cells, 2.3 s on 64². At most 255 per side,
 /// so that the count pass's loop over a triangle's cells stays below llvmpipe's loop limit.
+constexpr int kMaxCpuDeviceGrid = 255;
 int grid_resolution_vk(int option, int width, int height) {
   if (option > 0) return option;
-  return std::clamp((std::max(width, height) + 1) / 2, 16, 255);
+  return std::clamp((std::max(width, height) + 1) / 2, 16, kMaxCpuDeviceGrid);
 }
 
 void push4(std::vector<float>& out, const Vec3& v) {
@@ -557,6 +558,12 @@ class GearsVk final : public ShadowMethod {
     const GBuffer& g = ctx.gbuffer;
     const Light& light = ctx.light;
     const Plan plan = plan_of(ctx, lut_);
+    // A triangle's count and pair passes loop over its cells: up to grid² iterations, which
+    // llvmpipe would cut short (and drop pairs) past its 65535-iteration limit.
+    if (vk.info().type == "cpu" && grid_ > kMaxCpuDeviceGrid)
+      throw Error("gears on vulkan: gears.grid " + std::to_string(grid_) + " exceeds " +
+                  std::to_string(kMaxCpuDeviceGrid) + " on " + vk.device_name() +
+                  " (a CPU device's shader loops are limited); lower it or use a GPU");
     const bool sphere = plan.sphere, point = plan.point, per_pixel = plan.per_pixel;
     const bool use_rows = plan.use_rows;
     const int n = plan.n, k = plan.k, ns = plan.ns;
