@@ -136,29 +136,27 @@ StsvData stsv_data(const stsv::StsvSet& set) {
 }
 
 /// The light samples sorted into bands of v, as the CPU's Sampler sorts them, as the shaders read
-/// them: (u, v) pairs, emits | LightSamples index, the band starts — one set shared by every
-/// pixel, or one per active pixel (per-pixel patterns), appended in pixel order. `sorted_uv`: the
-/// sorted positions of every set, for a textured light's weighting on the host.
+/// them: (u, v) pairs (also the host's, for a textured light's weighting), emits | LightSamples
+/// index, the band starts — one set shared by every pixel, or one per active pixel (per-pixel
+/// patterns), appended in pixel order.
 struct Samples {
   bool per_pixel = false;
-  std::vector<float> uv;
+  std::vector<Vec2> uv;  // two tightly packed floats each: the shaders' vec2 array
   std::vector<uint32_t> emit_index;
   std::vector<int32_t> band_begin;
-  std::vector<Vec2> sorted_uv;
 
   void append(const dcs::SampleSet& set) {
-    for (size_t s = 0; s < set.uv.size(); ++s) {
-      uv.insert(uv.end(), {set.u[s], set.v[s]});
+    uv.insert(uv.end(), set.uv.begin(), set.uv.end());
+    for (size_t s = 0; s < set.uv.size(); ++s)
       emit_index.push_back((set.emit[s] ? 0x10000u : 0u) | set.index[s]);
-    }
     band_begin.insert(band_begin.end(), set.band_begin.begin(), set.band_begin.end());
-    sorted_uv.insert(sorted_uv.end(), set.uv.begin(), set.uv.end());
   }
   /// The sorted positions of active pixel a's samples.
   std::span<const Vec2> of_pixel(size_t a, int n) const {
-    return {sorted_uv.data() + (per_pixel ? a * n : 0), static_cast<size_t>(n)};
+    return {uv.data() + (per_pixel ? a * n : 0), static_cast<size_t>(n)};
   }
 };
+static_assert(sizeof(Vec2) == 2 * sizeof(float));
 Samples samples_of(const ShadowContext& ctx, const std::vector<uint32_t>& active) {
   Samples out;
   const bool round = ctx.light.shape == LightShape::disk || ctx.light.shape == LightShape::sphere;
