@@ -40,6 +40,22 @@ void collect(const aiScene& scene, const aiNode* node, const aiMatrix4x4& parent
     collect(scene, node->mChildren[i], transform, out, depth + 1);
 }
 
+/// The keys around `ticks` (count > 0): lo == hi holds that key (before the first, after the
+/// last), else the fraction s of the way from key lo to key hi.
+struct Bracket {
+  unsigned lo = 0, hi = 0;
+  double s = 0.0;
+};
+template <class Key>
+Bracket bracket(const Key* keys, unsigned count, double ticks) {
+  unsigned hi = 0;
+  while (hi < count && keys[hi].mTime < ticks) ++hi;
+  if (hi == 0) return {0, 0, 0.0};
+  if (hi == count) return {count - 1, count - 1, 0.0};
+  const double t0 = keys[hi - 1].mTime, t1 = keys[hi].mTime;
+  return {hi - 1, hi, t1 > t0 ? (ticks - t0) / (t1 - t0) : 1.0};
+}
+
 /// target index → weight at `ticks`, interpolated linearly between the channel's keys.
 std::map<unsigned, double> weights_at(const aiMeshMorphAnim& channel, double ticks) {
   const auto key_weights = [&](unsigned k) {
@@ -48,16 +64,12 @@ std::map<unsigned, double> weights_at(const aiMeshMorphAnim& channel, double tic
     for (unsigned i = 0; i < key.mNumValuesAndWeights; ++i) w[key.mValues[i]] = key.mWeights[i];
     return w;
   };
-  unsigned hi = 0;
-  while (hi < channel.mNumKeys && channel.mKeys[hi].mTime < ticks) ++hi;
-  if (hi == 0) return key_weights(0);
-  if (hi == channel.mNumKeys) return key_weights(hi - 1);
-  const double t0 = channel.mKeys[hi - 1].mTime, t1 = channel.mKeys[hi].mTime;
-  const double s = t1 > t0 ? (ticks - t0) / (t1 - t0) : 1.0;
-  std::map<unsigned, double> a = key_weights(hi - 1), b = key_weights(hi);
-  for (const auto& [target, w] : b) a[target] += s * (w - a[target]);
+  const Bracket k = bracket(channel.mKeys, channel.mNumKeys, ticks);
+  if (k.lo == k.hi) return key_weights(k.lo);
+  std::map<unsigned, double> a = key_weights(k.lo), b = key_weights(k.hi);
+  for (const auto& [target, w] : b) a[target] += k.s * (w - a[target]);
   for (auto& [target, w] : a)
-    if (!b.count(target)) w *= 1.0 - s;
+    if (!b.count(target)) w *= 1.0 - k.s;
   return a;
 }
 
@@ -67,33 +79,28 @@ struct Channels {
   std::map<std::string, const aiNodeAnim*> nodes;
 };
 
-template <class Key>
-unsigned upper_key(const Key* keys, unsigned count, double ticks) {
-  unsigned hi = 0;
-  while (hi < count && keys[hi].mTime < ticks) ++hi;
-  return hi;
+/// A channel's value at `ticks`: `rest` without keys, else `mix` of the keys around it (held
+/// before the first and after the last).
+template <class Key, class Value, class Mix>
+Value key_at(const Key* keys, unsigned count, double ticks, Value rest, Mix mix) {
+  if (count == 0) return rest;
+  const Bracket k = bracket(keys, count, ticks);
+  if (k.lo == k.hi) return keys[k.lo].mValue;
+  return mix(keys[k.lo].mValue, keys[k.hi].mValue, static_cast<float>(k.s));
 }
 
 aiVector3D vector_at(const aiVectorKey* keys, unsigned count, double ticks, aiVector3D rest) {
-  if (count == 0) return rest;
-  const unsigned hi = upper_key(keys, count, ticks);
-  if (hi == 0) return keys[0].mValue;
-  if (hi == count) return keys[count - 1].mValue;
-  const double t0 = keys[hi - 1].mTime, t1 = keys[hi].mTime;
-  const float s = t1 > t0 ? static_cast<float>((ticks - t0) / (t1 - t0)) : 1.0f;
-  return keys[hi - 1].mValue + s * (keys[hi].mValue - keys[hi - 1].mValue);
+  return key_at(keys, count, ticks, rest,
+                [](const aiVector3D& a, const aiVector3D& b, float s) { return a + s * (b - a); });
 }
 
 aiQuaternion rotation_at(const aiQuatKey* keys, unsigned count, double ticks, aiQuaternion rest) {
-  if (count == 0) return rest;
-  const unsigned hi = upper_key(keys, count, ticks);
-  if (hi == 0) return keys[0].mValue;
-  if (hi == count) return keys[count - 1].mValue;
-  const double t0 = keys[hi - 1].mTime, t1 = keys[hi].mTime;
-  const float s = t1 > t0 ? static_cast<float>((ticks - t0) / (t1 - t0)) : 1.0f;
-  aiQuaternion out;
-  aiQuaternion::Interpolate(out, keys[hi - 1].mValue, keys[hi].mValue, s);  // slerp
-  return out.Normalize();
+  return key_at(keys, count, ticks, rest,
+                [](const aiQuaternion& a, const aiQuaternion& b, float s) {
+                  aiQuaternion out;
+                  aiQuaternion::Interpolate(out, a, b, s);  // slerp
+                  return out.Normalize();
+                });
 }
 
 /// Every node's global transform at `ticks`, its animated channel replacing its own transform.
