@@ -173,6 +173,468 @@ ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
   return r;
 }
 
+/// Carried over the receivers a thread visits: the kept-triangle marks (by epoch, so no pixel
+/// clears them) and the per-pixel lists, allocated once.
+struct Scratch {
+  struct OpenTriangle {
+    uint32_t prim;
+    DVec2 q[3];  // uv × kUvScale of v[0], v[1], v[2]
+  };
+  std::vector<uint32_t> stamp;  // (epoch << 2) | open << 1 | positive side, kept triangles
+  uint32_t epoch = 0;
+  std::vector<uint32_t> inside;    // kept triangles from boxes inside the pyramid (not clipped)
+  std::vector<OpenTriangle> open;  // kept triangles straddling the sides, projected whole
+  std::vector<uint32_t> tri;       // kept triangles clipped during the traversal
+  std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
+  std::vector<DirectedEdge> edges;
+  std::vector<UvEdge> uv;
+  std::vector<uint32_t> edge_prim, uv_prim;  // the triangle each of edges, uv comes from
+  std::vector<uint64_t> union_find;  // per triangle: epoch << 32 | parent, kept ones (groups)
+  std::vector<Cull> cull;            // per solid, decided at its first candidate
+  std::vector<uint8_t> solid_met;
+  std::vector<SemiPolygon> semi;
+  ClipperLib::Paths loops;
+  ClipperLib::Path poly;
+};
+
+// Opaque uncut triangles are not projected whole and then cancelled edge by edge: the edge
+// between two kept triangles of one mesh whose projections have the same orientation appears in
+// both, in opposite directions and bit-identical after clipping (clip_polygon), so the pair is
+// known to cancel from adjacency alone and neither copy is emitted. What is left is the
+// projected silhouette of the kept set (for a closed mesh, its light-facing part), plus the
+// pieces along the pyramid's faces, with the same winding-number field as the sum of the
+// polygons. A triangle whose box lies strictly inside the pyramid (no clipping) and whose three
+// neighbours are all kept with its orientation contributes nothing and is never projected.
+// Every kept triangle is marked in `stamp` with the pixel's epoch, its side and how it was
+// projected, so both triangles of a shared edge take the same decision.
+//
+// Where V is the area of the uniformly emitting square left uncovered (rectangular untextured
+// light, no semi-opaque occluder: `open_ok`), the area sweep measures the winding field inside
+// the square whatever the edges do outside it, so a triangle straddling the pyramid's sides
+// need not be clipped there: it is projected whole ("open": unrounded uv of its three vertices)
+// when all of them lie between p and the light, W in [kOpenMinW, kShadowSegmentEnd] (W bounded
+// away from 0 keeps the coordinates, and their rounding, small). Triangles inside the pyramid
+// are open too (clipping would not change them); the others are clipped as before. A shared
+// edge cancels only between two triangles projected the same way (their copies are then
+// identical); across the two ways both copies are emitted, and their sum is still the sum of
+// the two polygons' fields.
+class PixelUnion {
+ public:
+  PixelUnion(const ExactScene& scene, const ExactLight& light, const DVec3& p,
+             const LightFrame& frame, const LightProjection& proj, ExactPointResult& r)
+      : scene_(scene), light_(light), p_(p), frame_(frame), proj_(proj), r_(r), sc_(scratch()) {
+    for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
+                          frame.corner + frame.edge_u + frame.edge_v})
+      light_box_.extend(c);
+    sc_.cull.assign(scene.solids().size(), Cull::unknown);
+    if (sc_.stamp.size() < scene.occluders().size()) sc_.stamp.resize(scene.occluders().size(), 0);
+    if (++sc_.epoch >= (1u << 30)) {  // epochs only grow: stamps of earlier pixels never match
+      std::fill(sc_.stamp.begin(), sc_.stamp.end(), 0u);
+      std::fill(sc_.union_find.begin(), sc_.union_find.end(), 0u);
+      sc_.epoch = 1;
+    }
+    mark_ = sc_.epoch << 2;
+    open_ok_ = !light.outline().round && !light.textured() && !scene.semi_opaque();
+    open_bit_ = open_ok_ ? 2u : 0u;
+    det_positive_ = glm::dot(proj.to_u, glm::cross(proj.to_v, proj.to_w)) > 0.0;
+    sc_.inside.clear();
+    sc_.open.clear();
+    sc_.tri.clear();
+    sc_.edges.clear();
+    sc_.edge_prim.clear();
+    sc_.semi.clear();
+  }
+
+  /// In umbra by the solids' inner balls (solid_interior.hpp) of `solid_met` (empty: all)?
+  /// Records the answer in `hint` and, when hidden, in the result.
+  bool balls_hide_light(std::span<const uint8_t> solid_met, ExactUmbraHint* hint) {
+    const bool hidden =
+        inner_balls_hide_light(scene_, p_, DVec3(frame_.corner), DVec3(frame_.edge_u),
+                               DVec3(frame_.edge_v), light_box_, proj_, solid_met);
+    if (hint != nullptr) hint->previous_umbra = hidden;
+    if (hidden) {
+      r_.visible = 0.0;
+      r_.visible_rgb = DVec3(0.0);
+      r_.umbra_by_ball = true;
+    }
+    return hidden;
+  }
+
+  /// Finds and marks the triangles that may change the union; false when one opaque polygon
+  /// covers the whole light (then V = 0 is set).
+  bool collect() {
+    scene_.bvh().traverse_classified(
+        [&](const ExactBvh::Node& n, bool inside) { return classify_node(n, inside); },
+        [&](uint32_t prim, bool inside) { return visit(prim, inside); });
+    if (umbra_) {
+      r_.visible = 0.0;
+      r_.visible_rgb = DVec3(0.0);
+    }
+    return !umbra_;
+  }
+
+  /// Was anything kept? (Otherwise nothing blocks the light.)
+  bool met_something() const {
+    return !sc_.inside.empty() || !sc_.open.empty() || clipped_count_ > 0 || !sc_.edges.empty() ||
+           !sc_.semi.empty();
+  }
+
+  /// The solids whose cull mode the traversal decided, i.e. which it met.
+  std::span<const uint8_t> solids_met() {
+    sc_.solid_met.resize(sc_.cull.size());
+    for (size_t s = 0; s < sc_.cull.size(); ++s)
+      sc_.solid_met[s] = sc_.cull[s] != Cull::unknown ? 1 : 0;
+    return sc_.solid_met;
+  }
+
+  /// The kept triangles' edges that do not cancel: clipped ones into sc_.edges, open ones into
+  /// sc_.uv; false when there are none and no semi-opaque polygon either.
+  bool emit_silhouette();
+
+  /// V (and its RGB) from the emitted edges.
+  void measure() {
+    if (open_ok_) {
+      measure_by_sweep();
+    } else {
+      measure_by_clipper();
+    }
+  }
+
+ private:
+  static Scratch& scratch() {
+    thread_local Scratch sc;
+    return sc;
+  }
+  Cull& cull_of(uint32_t solid) {
+    Cull& mode = sc_.cull[solid];
+    if (mode == Cull::unknown) mode = cull_mode(scene_, solid, p_, light_box_, proj_);
+    return mode;
+  }
+  /// `side` = normal · (p − v0): positive where p sees the triangle's positive side.
+  bool skipped(const ExactOccluder& o, double side) {
+    if (o.solid == ExactOccluder::kNotSolid) return false;
+    const Cull mode = cull_of(o.solid);
+    if (mode == Cull::all) return false;
+    return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);
+  }
+  int classify_node(const ExactBvh::Node& n, bool inside);
+  bool visit(uint32_t prim, bool inside);
+  void add_piece(const ExactOccluder& o, const DVec3* vertices, int count);
+  bool keep_opaque(uint32_t prim, const ExactOccluder& o, double side, bool inside);
+  void emit_clipped(uint32_t prim, const ClippedPolygon& c);
+  void emit_open(uint32_t prim, const DVec2* q);
+  void label_cancellation_groups(std::vector<uint32_t>& prim_of_edge);
+  void measure_by_sweep();
+  void measure_by_clipper();
+
+  const ExactScene& scene_;
+  const ExactLight& light_;
+  const DVec3 p_;
+  const LightFrame& frame_;
+  const LightProjection& proj_;
+  ExactPointResult& r_;
+  Scratch& sc_;
+  Bounds3 light_box_;
+  uint32_t mark_ = 0;
+  bool open_ok_ = false;
+  uint32_t open_bit_ = 0;
+  bool det_positive_ = false;  // emit_clipped: det M > 0
+  size_t clipped_count_ = 0;
+  uint32_t pieces_ = 0;  // non-degenerate opaque alpha pieces
+  bool umbra_ = false;
+};
+
+int PixelUnion::classify_node(const ExactBvh::Node& n, bool inside) {
+  const auto& occluders = scene_.occluders();
+  const std::vector<ExactNodeCone>& cones = scene_.node_cones();
+  const std::vector<ExactBvh::Node>& nodes = scene_.bvh().nodes();
+  // A leaf's occluders are slots [first, first + count) (leaf order): their records are
+  // fetched while its box is classified, the first thing their visit reads.
+  if (n.count > 0) {
+    const char* record = reinterpret_cast<const char*>(&occluders[n.first]);
+    const char* last = reinterpret_cast<const char*>(&occluders[n.first + n.count - 1]);
+    for (; record <= last; record += 64) __builtin_prefetch(record);
+  }
+  // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
+  // holding a whole solid seen from outside has both sides, its children often one.
+  const size_t index = static_cast<size_t>(&n - nodes.data());
+  // The cones are read after the box test: fetched meanwhile (an 80-byte record, two lines).
+  const auto fetch_cone = [&](size_t k) {
+    __builtin_prefetch(&cones[k]);
+    __builtin_prefetch(reinterpret_cast<const char*>(&cones[k]) + 64);
+  };
+  if (!cones.empty()) fetch_cone(index);
+  const int c = inside ? ExactBvh::kInside : classify_box(proj_, n.lo, n.hi);
+  if (c == ExactBvh::kOutside || cones.empty()) return c;
+  if (n.count == 0) {  // descending: both children's cones
+    fetch_cone(index + 1);
+    fetch_cone(n.first);
+  }
+  const ExactNodeCone& cone = cones[index];
+  if (cone.solid == ExactOccluder::kNotSolid) return c;
+  const Cull mode = cull_of(cone.solid);
+  if (mode == Cull::all || !subtree_culled(cone, p_, mode == Cull::keep_positive)) return c;
+  r_.candidates += cone.triangles;
+  r_.culled += cone.triangles;
+  return ExactBvh::kOutside;
+}
+
+/// An alpha piece or a semi-opaque triangle: clipped and projected now, its outline added to
+/// the edges (opaque) or kept for the weighted regions (semi-opaque).
+void PixelUnion::add_piece(const ExactOccluder& o, const DVec3* vertices, int count) {
+  ClipperLib::Path& poly = sc_.poly;
+  if (!project_polygon(proj_, vertices, count, poly)) return;
+  ++r_.polygons;
+  if (o.transmittance > 0.0) {
+    sc_.semi.push_back({poly, o.transmittance});
+    return;
+  }
+  ++pieces_;
+  append_polygon_edges(std::span<const ClipperLib::Path>(&poly, 1), sc_.edges);
+  umbra_ = umbra_ || covers_square(poly);
+}
+
+/// One candidate triangle (`inside`: its leaf's box lies inside the pyramid); false stops the
+/// traversal (the light is covered).
+bool PixelUnion::visit(uint32_t prim, bool inside) {
+  ++r_.candidates;
+  const ExactOccluder& o = scene_.occluders()[prim];
+  const double side = glm::dot(o.normal, p_ - o.v[0]);
+  if (skipped(o, side)) {
+    ++r_.culled;
+    return true;
+  }
+  if (o.cut) {
+    for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
+      const ExactPiece& piece = scene_.pieces()[k];
+      add_piece(o, scene_.piece_vertices().data() + piece.first, static_cast<int>(piece.count));
+    }
+    return !umbra_;
+  }
+  if (o.transmittance > 0.0) {
+    add_piece(o, o.v, 3);
+    return true;
+  }
+  if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
+  return keep_opaque(prim, o, side, inside);
+}
+
+/// An opaque uncut triangle p sees from `side`: marked, and listed as inside, open or clipped.
+bool PixelUnion::keep_opaque(uint32_t prim, const ExactOccluder& o, double side, bool inside) {
+  constexpr cInt kSide = static_cast<cInt>(kUvScale);
+  DVec3 h[3];
+  if (!inside) {
+    // The leaf straddles the pyramid; the triangle itself often does not: its vertices
+    // against the clip's own half-spaces, from the values the clip would test.
+    for (int k = 0; k < 3; ++k) h[k] = proj_.homogeneous(o.v[k]);
+    const int own = classify_homogeneous(h, 3);
+    if (own == ExactBvh::kOutside) return true;  // projects to nothing
+    inside = own == ExactBvh::kInside;
+  }
+  const uint32_t side_bit = side > 0.0 ? 1u : 0u;
+  if (inside) {
+    sc_.stamp[prim] = mark_ | open_bit_ | side_bit;
+    sc_.inside.push_back(prim);
+    ++r_.polygons;
+    return true;
+  }
+  if (open_ok_ && h[0].z >= kOpenMinW && h[1].z >= kOpenMinW && h[2].z >= kOpenMinW &&
+      h[0].z <= kShadowSegmentEnd && h[1].z <= kShadowSegmentEnd && h[2].z <= kShadowSegmentEnd) {
+    Scratch::OpenTriangle t{prim, {}};
+    for (int k = 0; k < 3; ++k) t.q[k] = open_uv(h[k]);
+    // One that may cover the whole square is clipped instead (the umbra test below).
+    const double lo_x = std::min({t.q[0].x, t.q[1].x, t.q[2].x});
+    const double hi_x = std::max({t.q[0].x, t.q[1].x, t.q[2].x});
+    const double lo_y = std::min({t.q[0].y, t.q[1].y, t.q[2].y});
+    const double hi_y = std::max({t.q[0].y, t.q[1].y, t.q[2].y});
+    if (!(lo_x <= 0.0 && lo_y <= 0.0 && hi_x >= kUvScale && hi_y >= kUvScale)) {
+      sc_.stamp[prim] = mark_ | open_bit_ | side_bit;
+      sc_.open.push_back(t);
+      ++r_.polygons;
+      return true;
+    }
+  }
+  sc_.stamp[prim] = mark_ | side_bit;
+  if (sc_.clipped.size() == clipped_count_) sc_.clipped.emplace_back();
+  ClippedPolygon& c = sc_.clipped[clipped_count_];
+  clip_homogeneous(h, 3, c);
+  if (c.n == 0) return true;
+  ++clipped_count_;
+  sc_.tri.push_back(prim);
+  if (c.n >= 3) ++r_.polygons;
+  if (c.n >= 4) {
+    // Only a polygon reaching all four sides of the uv square can cover it.
+    cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
+    for (int i = 0; i < c.n; ++i) {
+      lo_x = std::min(lo_x, c.q[i].X);
+      hi_x = std::max(hi_x, c.q[i].X);
+      lo_y = std::min(lo_y, c.q[i].Y);
+      hi_y = std::max(hi_y, c.q[i].Y);
+    }
+    if (lo_x == 0 && lo_y == 0 && hi_x == kSide && hi_y == kSide) {
+      sc_.poly.assign(c.q, c.q + c.n);
+      umbra_ = covers_square(sc_.poly);
+    }
+  }
+  return !umbra_;  // one opaque polygon hides the whole light: done
+}
+
+// The projection's orientation: with M the rows to_u, to_v, to_w, det[h0 h1 h2] =
+// det M · det[x0 − p, x1 − p, x2 − p] = −det M · side, and W > 0 after clipping, so a polygon
+// keeps its vertex order's orientation in uv iff det M · side < 0. Every polygon enters the
+// union positively oriented (see project_polygon).
+void PixelUnion::emit_clipped(uint32_t prim, const ClippedPolygon& c) {
+  const std::array<uint32_t, 3>& neighbour = scene_.neighbours()[prim];
+  const uint32_t own = sc_.stamp[prim];
+  const bool flip = det_positive_ == ((own & 1u) != 0);
+  for (int i = 0; i < c.n; ++i) {
+    const int e = c.edge[i];
+    if (e >= 0) {
+      const uint32_t nb = neighbour[e];
+      if (nb != ExactOccluder::kNoNeighbour && sc_.stamp[nb] == own) continue;  // cancels
+    }
+    const ClipperLib::IntPoint& a = c.q[i];
+    const ClipperLib::IntPoint& b = c.q[i + 1 == c.n ? 0 : i + 1];
+    if (a == b) continue;
+    sc_.edges.push_back(flip ? DirectedEdge{b, a} : DirectedEdge{a, b});
+    sc_.edge_prim.push_back(prim);
+  }
+}
+
+void PixelUnion::emit_open(uint32_t prim, const DVec2* q) {
+  const std::array<uint32_t, 3>& neighbour = scene_.neighbours()[prim];
+  const uint32_t own = sc_.stamp[prim];
+  const bool flip = det_positive_ == ((own & 1u) != 0);
+  for (int e = 0; e < 3; ++e) {
+    const uint32_t nb = neighbour[e];
+    if (nb != ExactOccluder::kNoNeighbour && sc_.stamp[nb] == own) continue;  // cancels
+    const DVec2& a = q[e];
+    const DVec2& b = q[e == 2 ? 0 : e + 1];
+    sc_.uv.push_back(flip ? UvEdge{b.x, b.y, a.x, a.y} : UvEdge{a.x, a.y, b.x, b.y});
+    sc_.uv_prim.push_back(prim);
+  }
+}
+
+bool PixelUnion::emit_silhouette() {
+  for (size_t i = 0; i < clipped_count_; ++i) emit_clipped(sc_.tri[i], sc_.clipped[i]);
+  sc_.uv.clear();
+  sc_.uv_prim.clear();
+  for (const Scratch::OpenTriangle& t : sc_.open) emit_open(t.prim, t.q);
+  ClippedPolygon unclipped;
+  const auto& neighbours = scene_.neighbours();
+  for (const uint32_t prim : sc_.inside) {
+    const uint32_t own = sc_.stamp[prim];
+    bool interior = true;
+    for (const uint32_t nb : neighbours[prim])
+      interior = interior && nb != ExactOccluder::kNoNeighbour && sc_.stamp[nb] == own;
+    if (interior) continue;
+    const ExactOccluder& o = scene_.occluders()[prim];
+    if (open_ok_) {
+      DVec2 q[3];
+      for (int k = 0; k < 3; ++k) q[k] = open_uv(proj_.homogeneous(o.v[k]));
+      emit_open(prim, q);
+      continue;
+    }
+    clip_polygon(proj_, o.v, 3, unclipped);
+    emit_clipped(prim, unclipped);
+  }
+  return !sc_.edges.empty() || !sc_.uv.empty() || !sc_.semi.empty();
+}
+
+// Many edges: the sweep divides them into groups whose winding field is ≥ 0 on its own — the
+// kept triangles joined by cancelled shared edges (same stamp), each such set's emitted edges
+// the outline of the sum of its positively oriented polygons. Replaces each edge's triangle
+// by its set's label.
+void PixelUnion::label_cancellation_groups(std::vector<uint32_t>& prim_of_edge) {
+  // Union-find indexed by triangle, each entry tagged with the pixel's epoch: the sweep reads
+  // only which edges share a label (the partition), and the tag says at once whether a
+  // neighbour is listed, without a second lookup through a local index.
+  const uint64_t tag = static_cast<uint64_t>(sc_.epoch) << 32;
+  const auto& neighbours = scene_.neighbours();
+  std::vector<uint64_t>& uf = sc_.union_find;
+  if (uf.size() < scene_.occluders().size()) uf.resize(scene_.occluders().size(), 0);
+  for (size_t i = 0; i < clipped_count_; ++i) uf[sc_.tri[i]] = tag | sc_.tri[i];
+  for (const Scratch::OpenTriangle& t : sc_.open) uf[t.prim] = tag | t.prim;
+  for (const uint32_t prim : sc_.inside) uf[prim] = tag | prim;
+  const auto find = [&](uint32_t i) {
+    for (;;) {
+      const uint32_t up = static_cast<uint32_t>(uf[i]);
+      if (up == i) return i;
+      const uint32_t upper = static_cast<uint32_t>(uf[up]);
+      uf[i] = tag | upper;
+      i = upper;
+    }
+  };
+  // (A triangle stamped but clipped to nothing is in no list and joins nothing: it emitted
+  // nothing, and an edge it cancelled was clipped away in its neighbour too.)
+  // Each shared edge once, from its triangle with the larger index (kNoNeighbour is larger
+  // than any): both triangles are listed or the edge joins nothing either way.
+  const auto join = [&](uint32_t prim) {
+    const uint32_t own = sc_.stamp[prim];
+    for (const uint32_t nb : neighbours[prim])
+      if (nb < prim && sc_.stamp[nb] == own && (uf[nb] & ~0xffffffffull) == tag)
+        uf[find(prim)] = tag | find(nb);
+  };
+  for (size_t i = 0; i < clipped_count_; ++i) join(sc_.tri[i]);
+  for (const Scratch::OpenTriangle& t : sc_.open) join(t.prim);
+  for (const uint32_t prim : sc_.inside) join(prim);
+  for (uint32_t& e : prim_of_edge) e = find(e);
+}
+
+/// The whole uv square emits uniformly and every polygon is opaque: V is the area where the
+/// edges' winding number is 0, swept from the edges directly (no loops, no boolean).
+void PixelUnion::measure_by_sweep() {
+  append_uv_edges(sc_.edges, sc_.uv);
+  r_.silhouette_edges = static_cast<uint32_t>(sc_.uv.size());
+  double area = 0.0;
+  SweepWork work;
+  if (sc_.uv.size() <= kDivideAboveEdges) {
+    area = uncovered_square_area(sc_.uv, &work);
+  } else {
+    sc_.uv_prim.insert(sc_.uv_prim.end(), sc_.edge_prim.begin(), sc_.edge_prim.end());
+    label_cancellation_groups(sc_.uv_prim);
+    area = uncovered_square_area(sc_.uv, sc_.uv_prim, &work);
+  }
+  r_.sweep_edge_beams = work.edge_beams;
+  r_.sweep_beams = work.beams;
+  r_.sweep_crossings = work.crossings;
+  const double v = area / light_.outline().area;
+  r_.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
+  r_.visible_rgb = DVec3(r_.visible);
+}
+
+/// Round or textured lights, semi-opaque occluders: loops traced from the edges, the light minus
+/// their union (and the semi-opaque regions, weighted) by Clipper; textured lights weight it by
+/// texel per channel.
+void PixelUnion::measure_by_clipper() {
+  // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need
+  // the hash.
+  const size_t loop_count = trace_loops(sc_.edges, sc_.loops, pieces_ > 0);
+  const std::span<const ClipperLib::Path> loops(sc_.loops.data(), loop_count);
+  const std::vector<LightRegion> regions = visible_regions(light_.outline(), loops, sc_.semi);
+  double visible_area = 0.0;
+  for (const LightRegion& region : regions)
+    visible_area += region.weight * paths_area(region.paths);
+  double v = visible_area / light_.outline().area;
+  v = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
+  r_.visible = v;
+  r_.visible_rgb = DVec3(v);
+  if (!light_.textured()) return;
+  // Per channel Σ_texels weight · area(texel ∩ visible) / Σ_texels weight · area(texel ∩ light).
+  DVec3 seen(0.0);
+  for (const LightRegion& region : regions)
+    seen += region.weight * texel_weighted_area(region.paths, light_.texture_width(),
+                                                light_.texture_height(), light_.texel_weight());
+  const DVec3& total = light_.total_weight();
+  for (int c = 0; c < 3; ++c) {
+    const double f = total[c] > 0.0 ? seen[c] / total[c] : 1.0;
+    r_.visible_rgb[c] = std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;
+  }
+  const double lum_total = luminance(total);
+  const double f = lum_total > 0.0 ? luminance(seen) / lum_total : 1.0;
+  r_.visible = std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;
+}
+
 }  // namespace
 
 ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& light,
@@ -195,388 +657,15 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.degenerate = true;
     return r;
   }
-
-  const auto& occluders = scene.occluders();
-  const auto& neighbours = scene.neighbours();
-  // Per solid, decided at its first candidate (most pixels meet few solids).
-  thread_local std::vector<Cull> cull;
-  cull.assign(scene.solids().size(), Cull::unknown);
-  Bounds3 light_box;
-  for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
-                        frame.corner + frame.edge_u + frame.edge_v})
-    light_box.extend(c);
-  // In umbra by the solids' inner balls (solid_interior.hpp)? Tried before the traversal where
-  // the previous receiver was (neighbours mostly share their umbra), else after it where something
-  // was met.
-  const auto balls_hide_light = [&](std::span<const uint8_t> solid_met) {
-    const bool hidden = inner_balls_hide_light(scene, p, DVec3(frame.corner), DVec3(frame.edge_u),
-                                               DVec3(frame.edge_v), light_box, proj, solid_met);
-    if (hint != nullptr) hint->previous_umbra = hidden;
-    if (hidden) {
-      r.visible = 0.0;
-      r.visible_rgb = DVec3(0.0);
-      r.umbra_by_ball = true;
-    }
-    return hidden;
-  };
+  PixelUnion query(scene, light, p, frame, proj, r);
+  // In umbra by the solids' inner balls? Tried before the traversal where the previous receiver
+  // was (neighbours mostly share their umbra), else after it where something was met.
   const bool hinted = hint != nullptr && hint->previous_umbra;
-  if (hinted && balls_hide_light({})) return r;
-  // `side` = normal · (p − v0): positive where p sees the triangle's positive side.
-  const auto skipped = [&](const ExactOccluder& o, double side) {
-    if (o.solid == ExactOccluder::kNotSolid) return false;
-    Cull& mode = cull[o.solid];
-    if (mode == Cull::unknown) mode = cull_mode(scene, o.solid, p, light_box, proj);
-    if (mode == Cull::all) return false;
-    return mode == Cull::keep_positive ? !(side > 0.0) : !(side < 0.0);
-  };
-
-  // Opaque uncut triangles are not projected whole and then cancelled edge by edge: the edge
-  // between two kept triangles of one mesh whose projections have the same orientation appears in
-  // both, in opposite directions and bit-identical after clipping (clip_polygon), so the pair is
-  // known to cancel from adjacency alone and neither copy is emitted. What is left is the
-  // projected silhouette of the kept set (for a closed mesh, its light-facing part), plus the
-  // pieces along the pyramid's faces, with the same winding-number field as the sum of the
-  // polygons. A triangle whose box lies strictly inside the pyramid (no clipping) and whose three
-  // neighbours are all kept with its orientation contributes nothing and is never projected.
-  // Every kept triangle is marked in `stamp` with the pixel's epoch, its side and how it was
-  // projected, so both triangles of a shared edge take the same decision.
-  //
-  // Where V is the area of the uniformly emitting square left uncovered (rectangular untextured
-  // light, no semi-opaque occluder: `open_ok`), the area sweep measures the winding field inside
-  // the square whatever the edges do outside it, so a triangle straddling the pyramid's sides
-  // need not be clipped there: it is projected whole ("open": unrounded uv of its three vertices)
-  // when all of them lie between p and the light, W in [kOpenMinW, kShadowSegmentEnd] (W bounded
-  // away from 0 keeps the coordinates, and their rounding, small). Triangles inside the pyramid
-  // are open too (clipping would not change them); the others are clipped as before. A shared
-  // edge cancels only between two triangles projected the same way (their copies are then
-  // identical); across the two ways both copies are emitted, and their sum is still the sum of
-  // the two polygons' fields.
-  struct OpenTriangle {
-    uint32_t prim;
-    DVec2 q[3];  // uv × kUvScale of v[0], v[1], v[2]
-  };
-  struct Scratch {
-    std::vector<uint32_t> stamp;  // (epoch << 2) | open << 1 | positive side, kept triangles
-    uint32_t epoch = 0;
-    std::vector<uint32_t> inside;    // kept triangles from boxes inside the pyramid (not clipped)
-    std::vector<OpenTriangle> open;  // kept triangles straddling the sides, projected whole
-    std::vector<uint32_t> tri;       // kept triangles clipped during the traversal
-    std::vector<ClippedPolygon> clipped;  // their projections, tri[i] → clipped[i]
-    std::vector<DirectedEdge> edges;
-    std::vector<UvEdge> uv;
-    std::vector<uint32_t> edge_prim, uv_prim;  // the triangle each of edges, uv comes from
-    std::vector<uint64_t> union_find;  // per triangle: epoch << 32 | parent, kept ones (groups)
-    ClipperLib::Paths loops;
-    ClipperLib::Path poly;
-  };
-  thread_local Scratch sc;
-  if (sc.stamp.size() < occluders.size()) sc.stamp.resize(occluders.size(), 0);
-  if (++sc.epoch >= (1u << 30)) {  // epochs only grow: stamps of earlier pixels never match
-    std::fill(sc.stamp.begin(), sc.stamp.end(), 0u);
-    std::fill(sc.union_find.begin(), sc.union_find.end(), 0u);
-    sc.epoch = 1;
-  }
-  const uint32_t mark = sc.epoch << 2;
-  const LightOutline& outline = light.outline();
-  const bool open_ok = !outline.round && !light.textured() && !scene.semi_opaque();
-  const uint32_t open_bit = open_ok ? 2u : 0u;
-  sc.inside.clear();
-  sc.open.clear();
-  sc.tri.clear();
-  sc.edges.clear();
-  sc.edge_prim.clear();
-  size_t clipped_count = 0;
-  uint32_t pieces = 0;  // non-degenerate opaque alpha pieces
-
-  std::vector<SemiPolygon> semi;
-  ClipperLib::Path& poly = sc.poly;
-  bool umbra = false;
-  const auto add_piece = [&](const ExactOccluder& o, const DVec3* vertices, int count) {
-    if (!project_polygon(proj, vertices, count, poly)) return;
-    ++r.polygons;
-    if (o.transmittance > 0.0) {
-      semi.push_back({poly, o.transmittance});
-      return;
-    }
-    ++pieces;
-    append_polygon_edges(std::span<const ClipperLib::Path>(&poly, 1), sc.edges);
-    umbra = umbra || covers_square(poly);
-  };
-  constexpr cInt kSide = static_cast<cInt>(kUvScale);
-  const std::vector<ExactNodeCone>& cones = scene.node_cones();
-  const std::vector<ExactBvh::Node>& nodes = scene.bvh().nodes();
-  scene.bvh().traverse_classified(
-      [&](const ExactBvh::Node& n, bool inside) {
-        // A leaf's occluders are slots [first, first + count) (leaf order): their records are
-        // fetched while its box is classified, the first thing their visit reads.
-        if (n.count > 0) {
-          const char* record = reinterpret_cast<const char*>(&occluders[n.first]);
-          const char* last = reinterpret_cast<const char*>(&occluders[n.first + n.count - 1]);
-          for (; record <= last; record += 64) __builtin_prefetch(record);
-        }
-        // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
-        // holding a whole solid seen from outside has both sides, its children often one.
-        const size_t index = static_cast<size_t>(&n - nodes.data());
-        // The cones are read after the box test: fetched meanwhile (an 80-byte record, two lines).
-        const auto fetch_cone = [&](size_t k) {
-          __builtin_prefetch(&cones[k]);
-          __builtin_prefetch(reinterpret_cast<const char*>(&cones[k]) + 64);
-        };
-        if (!cones.empty()) fetch_cone(index);
-        const int c = inside ? ExactBvh::kInside : classify_box(proj, n.lo, n.hi);
-        if (c == ExactBvh::kOutside || cones.empty()) return c;
-        if (n.count == 0) {  // descending: both children's cones
-          fetch_cone(index + 1);
-          fetch_cone(n.first);
-        }
-        const ExactNodeCone& cone = cones[index];
-        if (cone.solid == ExactOccluder::kNotSolid) return c;
-        Cull& mode = cull[cone.solid];
-        if (mode == Cull::unknown) mode = cull_mode(scene, cone.solid, p, light_box, proj);
-        if (mode == Cull::all || !subtree_culled(cone, p, mode == Cull::keep_positive)) return c;
-        r.candidates += cone.triangles;
-        r.culled += cone.triangles;
-        return ExactBvh::kOutside;
-      },
-      [&](uint32_t prim, bool inside) {
-        ++r.candidates;
-        const ExactOccluder& o = occluders[prim];
-        const double side = glm::dot(o.normal, p - o.v[0]);
-        if (skipped(o, side)) {
-          ++r.culled;
-          return true;
-        }
-        if (o.cut) {
-          for (uint32_t k = o.piece_first; k < o.piece_first + o.piece_count; ++k) {
-            const ExactPiece& piece = scene.pieces()[k];
-            add_piece(o, scene.piece_vertices().data() + piece.first,
-                      static_cast<int>(piece.count));
-          }
-          return !umbra;
-        }
-        if (o.transmittance > 0.0) {
-          add_piece(o, o.v, 3);
-          return true;
-        }
-        if (side == 0.0) return true;  // seen edge-on: projects onto a segment (measure zero)
-        DVec3 h[3];
-        if (!inside) {
-          // The leaf straddles the pyramid; the triangle itself often does not: its vertices
-          // against the clip's own half-spaces, from the values the clip would test.
-          for (int k = 0; k < 3; ++k) h[k] = proj.homogeneous(o.v[k]);
-          const int own = classify_homogeneous(h, 3);
-          if (own == ExactBvh::kOutside) return true;  // projects to nothing
-          inside = own == ExactBvh::kInside;
-        }
-        const uint32_t side_bit = side > 0.0 ? 1u : 0u;
-        if (inside) {
-          sc.stamp[prim] = mark | open_bit | side_bit;
-          sc.inside.push_back(prim);
-          ++r.polygons;
-          return true;
-        }
-        if (open_ok && h[0].z >= kOpenMinW && h[1].z >= kOpenMinW && h[2].z >= kOpenMinW &&
-            h[0].z <= kShadowSegmentEnd && h[1].z <= kShadowSegmentEnd &&
-            h[2].z <= kShadowSegmentEnd) {
-          OpenTriangle t{prim, {}};
-          for (int k = 0; k < 3; ++k) t.q[k] = open_uv(h[k]);
-          // One that may cover the whole square is clipped instead (the umbra test below).
-          const double lo_x = std::min({t.q[0].x, t.q[1].x, t.q[2].x});
-          const double hi_x = std::max({t.q[0].x, t.q[1].x, t.q[2].x});
-          const double lo_y = std::min({t.q[0].y, t.q[1].y, t.q[2].y});
-          const double hi_y = std::max({t.q[0].y, t.q[1].y, t.q[2].y});
-          if (!(lo_x <= 0.0 && lo_y <= 0.0 && hi_x >= kUvScale && hi_y >= kUvScale)) {
-            sc.stamp[prim] = mark | open_bit | side_bit;
-            sc.open.push_back(t);
-            ++r.polygons;
-            return true;
-          }
-        }
-        sc.stamp[prim] = mark | side_bit;
-        if (sc.clipped.size() == clipped_count) sc.clipped.emplace_back();
-        ClippedPolygon& c = sc.clipped[clipped_count];
-        clip_homogeneous(h, 3, c);
-        if (c.n == 0) return true;
-        ++clipped_count;
-        sc.tri.push_back(prim);
-        if (c.n >= 3) ++r.polygons;
-        if (c.n >= 4) {
-          // Only a polygon reaching all four sides of the uv square can cover it.
-          cInt lo_x = kSide, hi_x = 0, lo_y = kSide, hi_y = 0;
-          for (int i = 0; i < c.n; ++i) {
-            lo_x = std::min(lo_x, c.q[i].X);
-            hi_x = std::max(hi_x, c.q[i].X);
-            lo_y = std::min(lo_y, c.q[i].Y);
-            hi_y = std::max(hi_y, c.q[i].Y);
-          }
-          if (lo_x == 0 && lo_y == 0 && hi_x == kSide && hi_y == kSide) {
-            poly.assign(c.q, c.q + c.n);
-            umbra = covers_square(poly);
-          }
-        }
-        return !umbra;  // one opaque polygon hides the whole light: done
-      });
-  if (umbra) {
-    r.visible = 0.0;
-    r.visible_rgb = DVec3(0.0);
+  if (hinted && query.balls_hide_light({}, hint)) return r;
+  if (!query.collect()) return r;
+  if (query.met_something() && !hinted && query.balls_hide_light(query.solids_met(), hint))
     return r;
-  }
-  const bool something = !sc.inside.empty() || !sc.open.empty() || clipped_count > 0 ||
-                         !sc.edges.empty() || !semi.empty();
-  if (something && !hinted) {
-    thread_local std::vector<uint8_t> met;
-    met.resize(cull.size());
-    for (size_t s = 0; s < cull.size(); ++s) met[s] = cull[s] != Cull::unknown ? 1 : 0;
-    if (balls_hide_light(met)) return r;
-  }
-
-  // The projection's orientation: with M the rows to_u, to_v, to_w, det[h0 h1 h2] =
-  // det M · det[x0 − p, x1 − p, x2 − p] = −det M · side, and W > 0 after clipping, so a polygon
-  // keeps its vertex order's orientation in uv iff det M · side < 0. Every polygon enters the
-  // union positively oriented (see project_polygon).
-  const bool det_positive = glm::dot(proj.to_u, glm::cross(proj.to_v, proj.to_w)) > 0.0;
-  const auto emit = [&](uint32_t prim, const ClippedPolygon& c) {
-    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
-    const uint32_t own = sc.stamp[prim];
-    const bool flip = det_positive == ((own & 1u) != 0);
-    for (int i = 0; i < c.n; ++i) {
-      const int e = c.edge[i];
-      if (e >= 0) {
-        const uint32_t nb = neighbour[e];
-        if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
-      }
-      const ClipperLib::IntPoint& a = c.q[i];
-      const ClipperLib::IntPoint& b = c.q[i + 1 == c.n ? 0 : i + 1];
-      if (a == b) continue;
-      sc.edges.push_back(flip ? DirectedEdge{b, a} : DirectedEdge{a, b});
-      sc.edge_prim.push_back(prim);
-    }
-  };
-  for (size_t i = 0; i < clipped_count; ++i) emit(sc.tri[i], sc.clipped[i]);
-  sc.uv.clear();
-  sc.uv_prim.clear();
-  const auto emit_open = [&](uint32_t prim, const DVec2* q) {
-    const std::array<uint32_t, 3>& neighbour = neighbours[prim];
-    const uint32_t own = sc.stamp[prim];
-    const bool flip = det_positive == ((own & 1u) != 0);
-    for (int e = 0; e < 3; ++e) {
-      const uint32_t nb = neighbour[e];
-      if (nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own) continue;  // cancels
-      const DVec2& a = q[e];
-      const DVec2& b = q[e == 2 ? 0 : e + 1];
-      sc.uv.push_back(flip ? UvEdge{b.x, b.y, a.x, a.y} : UvEdge{a.x, a.y, b.x, b.y});
-      sc.uv_prim.push_back(prim);
-    }
-  };
-  for (const OpenTriangle& t : sc.open) emit_open(t.prim, t.q);
-  ClippedPolygon unclipped;
-  for (const uint32_t prim : sc.inside) {
-    const uint32_t own = sc.stamp[prim];
-    bool interior = true;
-    for (const uint32_t nb : neighbours[prim])
-      interior = interior && nb != ExactOccluder::kNoNeighbour && sc.stamp[nb] == own;
-    if (interior) continue;
-    const ExactOccluder& o = occluders[prim];
-    if (open_ok) {
-      DVec2 q[3];
-      for (int k = 0; k < 3; ++k) q[k] = open_uv(proj.homogeneous(o.v[k]));
-      emit_open(prim, q);
-      continue;
-    }
-    clip_polygon(proj, o.v, 3, unclipped);
-    emit(prim, unclipped);
-  }
-  if (sc.edges.empty() && sc.uv.empty() && semi.empty()) return r;
-
-  // Many edges: the sweep divides them into groups whose winding field is ≥ 0 on its own — the
-  // kept triangles joined by cancelled shared edges (same stamp), each such set's emitted edges
-  // the outline of the sum of its positively oriented polygons. Replaces each edge's triangle
-  // by its set's label.
-  const auto label_cancellation_groups = [&](std::vector<uint32_t>& prim_of_edge) {
-    // Union-find indexed by triangle, each entry tagged with the pixel's epoch: the sweep reads
-    // only which edges share a label (the partition), and the tag says at once whether a
-    // neighbour is listed, without a second lookup through a local index.
-    const uint64_t tag = static_cast<uint64_t>(sc.epoch) << 32;
-    std::vector<uint64_t>& uf = sc.union_find;
-    if (uf.size() < occluders.size()) uf.resize(occluders.size(), 0);
-    for (size_t i = 0; i < clipped_count; ++i) uf[sc.tri[i]] = tag | sc.tri[i];
-    for (const OpenTriangle& t : sc.open) uf[t.prim] = tag | t.prim;
-    for (const uint32_t prim : sc.inside) uf[prim] = tag | prim;
-    const auto find = [&](uint32_t i) {
-      for (;;) {
-        const uint32_t up = static_cast<uint32_t>(uf[i]);
-        if (up == i) return i;
-        const uint32_t upper = static_cast<uint32_t>(uf[up]);
-        uf[i] = tag | upper;
-        i = upper;
-      }
-    };
-    // (A triangle stamped but clipped to nothing is in no list and joins nothing: it emitted
-    // nothing, and an edge it cancelled was clipped away in its neighbour too.)
-    // Each shared edge once, from its triangle with the larger index (kNoNeighbour is larger
-    // than any): both triangles are listed or the edge joins nothing either way.
-    const auto join = [&](uint32_t prim) {
-      const uint32_t own = sc.stamp[prim];
-      for (const uint32_t nb : neighbours[prim])
-        if (nb < prim && sc.stamp[nb] == own && (uf[nb] & ~0xffffffffull) == tag)
-          uf[find(prim)] = tag | find(nb);
-    };
-    for (size_t i = 0; i < clipped_count; ++i) join(sc.tri[i]);
-    for (const OpenTriangle& t : sc.open) join(t.prim);
-    for (const uint32_t prim : sc.inside) join(prim);
-    for (uint32_t& e : prim_of_edge) e = find(e);
-  };
-
-  if (open_ok) {
-    // The whole uv square emits uniformly and every polygon is opaque: V is the area where the
-    // edges' winding number is 0, swept from the edges directly (no loops, no boolean).
-    append_uv_edges(sc.edges, sc.uv);
-    r.silhouette_edges = static_cast<uint32_t>(sc.uv.size());
-    double area = 0.0;
-    SweepWork work;
-    if (sc.uv.size() <= kDivideAboveEdges) {
-      area = uncovered_square_area(sc.uv, &work);
-    } else {
-      sc.uv_prim.insert(sc.uv_prim.end(), sc.edge_prim.begin(), sc.edge_prim.end());
-      label_cancellation_groups(sc.uv_prim);
-      area = uncovered_square_area(sc.uv, sc.uv_prim, &work);
-    }
-    r.sweep_edge_beams = work.edge_beams;
-    r.sweep_beams = work.beams;
-    r.sweep_crossings = work.crossings;
-    const double v = area / outline.area;
-    r.visible = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
-    r.visible_rgb = DVec3(r.visible);
-    return r;
-  }
-  // Mesh edges were cancelled from adjacency; only alpha pieces (and their shared edges) need the
-  // hash.
-  const size_t loop_count = trace_loops(sc.edges, sc.loops, pieces > 0);
-  const std::span<const ClipperLib::Path> loops(sc.loops.data(), loop_count);
-  const std::vector<LightRegion> regions = visible_regions(outline, loops, semi);
-  double visible_area = 0.0;
-  for (const LightRegion& region : regions)
-    visible_area += region.weight * paths_area(region.paths);
-  double v = visible_area / outline.area;
-  v = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
-  r.visible = v;
-  r.visible_rgb = DVec3(v);
-
-  if (light.textured()) {
-    // Per channel Σ_texels weight · area(texel ∩ visible) / Σ_texels weight · area(texel ∩ light).
-    DVec3 seen(0.0);
-    for (const LightRegion& region : regions)
-      seen += region.weight * texel_weighted_area(region.paths, light.texture_width(),
-                                                  light.texture_height(), light.texel_weight());
-    const DVec3& total = light.total_weight();
-    for (int c = 0; c < 3; ++c) {
-      const double f = total[c] > 0.0 ? seen[c] / total[c] : 1.0;
-      r.visible_rgb[c] = std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;
-    }
-    const double lum_total = luminance(total);
-    const double f = lum_total > 0.0 ? luminance(seen) / lum_total : 1.0;
-    r.visible = std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;
-  }
+  if (query.emit_silhouette()) query.measure();
   return r;
 }
 
