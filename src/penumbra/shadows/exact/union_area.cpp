@@ -184,33 +184,37 @@ void append_uv_edges(std::span<const DirectedEdge> edges, std::vector<UvEdge>& o
 
 namespace {
 
-/// uncovered_square_area; with `outline`, also the boundary of the covered region inside the
-/// square (OutlineSink) appended there.
-/// `work` (if given) grows by this sweep's beams, edge-beams and crossings.
-double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline, SweepWork* work) {
-  const double side = kUvScale;
+/// A sweep's working arrays, kept per thread (one sweep per receiver, most with few edges).
+struct SweepScratch {
   struct Start {
     double y0;
     uint32_t edge;
   };
-  thread_local std::vector<SweepEdge> sweep;
-  thread_local std::vector<Start> order;  // the edges by lower end
-  thread_local std::vector<double> cuts;
-  thread_local std::vector<Crossing> active;
-  thread_local std::vector<SweepEdge> left;
-  thread_local std::vector<Crossing> by_top;
-  thread_local std::vector<Swap> swaps;
-  thread_local std::vector<uint32_t> pos;
-  thread_local Coefficients co;
-  thread_local OutlineSink sink;
-  thread_local std::vector<Mark> marks;
-  sweep.clear();
-  order.clear();
-  left.clear();
-  const auto add = [&](double y0, double y1, double x0, double x1, double slope, int dir) {
+  std::vector<SweepEdge> sweep;
+  std::vector<Start> order;  // the edges by lower end
+  std::vector<double> cuts;
+  std::vector<Crossing> active;
+  std::vector<SweepEdge> left;
+  std::vector<Crossing> by_top;
+  std::vector<Swap> swaps;
+  std::vector<uint32_t> pos;
+  Coefficients co;
+  OutlineSink sink;
+  std::vector<Mark> marks;
+
+  void add(double y0, double y1, double x0, double x1, double slope, int dir) {
     order.push_back({y0, static_cast<uint32_t>(sweep.size())});
     sweep.push_back({y0, y1, x0, x1, slope, dir});
-  };
+  }
+};
+
+/// `edges` as sweep edges (s.sweep, s.order by lower end): cut to the square's rows and split at
+/// its sides, the parts left of it moved onto u = 0, the parts right of it dropped.
+void make_sweep_edges(std::span<const UvEdge> edges, SweepScratch& s) {
+  const double side = kUvScale;
+  s.sweep.clear();
+  s.order.clear();
+  s.left.clear();
   for (const UvEdge& e : edges) {
     if (e.y0 == e.y1) continue;  // horizontal: never crosses a line inside a beam
     const bool up = e.y0 < e.y1;
@@ -238,16 +242,16 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
     if ((x0 < 0.0 && x1 > 0.0) || (x0 > 0.0 && x1 < 0.0)) {
       const double y = split_y(0.0);
       if (x0 < 0.0) {
-        left.push_back({y0, y, 0.0, 0.0, 0.0, dir});
+        s.left.push_back({y0, y, 0.0, 0.0, 0.0, dir});
         x0 = 0.0;
         y0 = y;
       } else {
-        left.push_back({y, y1, 0.0, 0.0, 0.0, dir});
+        s.left.push_back({y, y1, 0.0, 0.0, 0.0, dir});
         x1 = 0.0;
         y1 = y;
       }
     } else if (x0 <= 0.0 && x1 <= 0.0) {
-      left.push_back({y0, y1, 0.0, 0.0, 0.0, dir});
+      s.left.push_back({y0, y1, 0.0, 0.0, 0.0, dir});
       continue;
     }
     if (x0 >= side && x1 >= side) continue;  // (the rows' cut may have moved it right)
@@ -262,30 +266,122 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
       }
     }
     if (!(y1 > y0)) continue;
-    add(y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir);
+    s.add(y0, y1, x0, x1, (x1 - x0) / (y1 - y0), dir);
   }
   // Edges along the left side (one per triangle clipped there): contiguous runs of one
   // direction merged into one edge each, the same field with fewer beams.
-  std::sort(left.begin(), left.end(), [](const SweepEdge& a, const SweepEdge& b) {
+  std::sort(s.left.begin(), s.left.end(), [](const SweepEdge& a, const SweepEdge& b) {
     return a.dir != b.dir ? a.dir < b.dir : a.y0 < b.y0;
   });
-  for (size_t i = 0; i < left.size();) {
-    SweepEdge run = left[i++];
-    for (; i < left.size() && left[i].dir == run.dir && left[i].y0 == run.y1; ++i)
-      run.y1 = left[i].y1;
-    add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
+  for (size_t i = 0; i < s.left.size();) {
+    SweepEdge run = s.left[i++];
+    for (; i < s.left.size() && s.left[i].dir == run.dir && s.left[i].y0 == run.y1; ++i)
+      run.y1 = s.left[i].y1;
+    s.add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
   }
-  if (sweep.empty()) return side * side;
-  if (pos.size() < sweep.size()) pos.resize(sweep.size());
-  if (outline != nullptr) sink.reset(sweep, *outline);
-  std::sort(order.begin(), order.end(), [](const Start& a, const Start& b) {
-    return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
-  });
-  const auto lower_end = [&](size_t k) { return order[k].y0; };
+  std::sort(s.order.begin(), s.order.end(),
+            [](const SweepScratch::Start& a, const SweepScratch::Start& b) {
+              return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
+            });
+}
+
+/// The area of beam [ya, yb] whose edges (s.active, sorted at ya) cross inside it: integrated
+/// between the crossings (integrate_by_swaps), or, where that fails, by splitting the beam at
+/// every crossing; added to `area` piece by piece. Leaves s.active in some order; the next beam
+/// sorts it again.
+void crossing_beam(SweepScratch& s, double ya, double yb, std::vector<UvEdge>* outline,
+                   SweepWork* work, double& area) {
+  const double side = kUvScale, h = yb - ya;
+  // Insertion-sort a copy by the order at yb: every swap is one pair whose order differs at
+  // the two ends, i.e. that crosses inside the beam.
+  s.swaps.clear();
+  s.by_top.assign(s.active.begin(), s.active.end());
+  for (size_t i = 1; i < s.by_top.size(); ++i) {
+    const Crossing key = s.by_top[i];
+    size_t j = i;
+    while (j > 0 && s.by_top[j - 1].xb > key.xb) {
+      const Crossing& left = s.by_top[j - 1];
+      if (left.xa < key.xa) {  // strictly left at ya, strictly right at yb
+        const double da = left.xa - key.xa, db = left.xb - key.xb;
+        s.swaps.push_back({std::clamp(ya + h * (da / (da - db)), ya, yb), left.edge, key.edge});
+      }
+      s.by_top[j] = s.by_top[j - 1];
+      --j;
+    }
+    s.by_top[j] = key;
+  }
+  if (work != nullptr) work->crossings += s.swaps.size();
+  s.marks.clear();
+  if (integrate_by_swaps(s.sweep, s.active, s.swaps, s.pos, s.co, ya, yb, side, area,
+                         outline != nullptr ? &s.marks : nullptr)) {
+    for (const Mark& m : s.marks) s.sink.mark(m.edge, m.coefficient, m.y);
+    return;
+  }
+  // Swaps not between neighbours (several crossings at one point, or rounding reordered close
+  // ones): split the beam at every crossing instead, each piece crossing-free.
+  s.cuts.clear();
+  for (const Swap& w : s.swaps)
+    if (w.y > ya && w.y < yb) s.cuts.push_back(w.y);
+  std::sort(s.cuts.begin(), s.cuts.end());
+  s.cuts.push_back(yb);
+  double lo = ya;
+  for (const double hi : s.cuts) {
+    if (!(hi > lo)) continue;
+    const double mid = 0.5 * (lo + hi);
+    for (Crossing& c : s.active) {  // xa as scratch: the next beam takes its xa from xb
+      const SweepEdge& e = s.sweep[c.edge];
+      c.xa = e.x0 + (mid - e.y0) * e.slope;
+    }
+    sort_by_x(s.active);
+    if (outline != nullptr) mark_walk(s.active, lo, s.sink);
+    area += (hi - lo) * uncovered_width(s.active, side, [](const Crossing& c) { return c.xa; });
+    lo = hi;
+  }
+}
+
+/// Moves s.active to the beam [ya, yb]: its abscissae at both ends (at ya the previous beam's
+/// top; an edge that just started enters with xb at its lower end), sorted at ya with ties by
+/// the order at yb. True when no two edges cross inside the beam.
+bool advance_active(SweepScratch& s, double yb) {
+  // End points exactly: edges meeting at a vertex then meet in x too, never a false crossing.
+  for (Crossing& c : s.active) {
+    const SweepEdge& e = s.sweep[c.edge];
+    c.xa = c.xb;
+    c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
+  }
+  // Nearly sorted already: the previous beam's order at its top, plus the edges that started.
+  std::vector<Crossing>& active = s.active;
+  for (size_t i = 1; i < active.size(); ++i) {
+    const Crossing key = active[i];
+    size_t j = i;
+    while (j > 0 && (active[j - 1].xa > key.xa ||
+                     (active[j - 1].xa == key.xa && active[j - 1].xb > key.xb))) {
+      active[j] = active[j - 1];
+      --j;
+    }
+    active[j] = key;
+  }
+  bool ordered = true;
+  for (size_t i = 1; i < active.size(); ++i) ordered &= active[i - 1].xb <= active[i].xb;
+  return ordered;
+}
+
+/// uncovered_square_area; with `outline`, also the boundary of the covered region inside the
+/// square (OutlineSink) appended there.
+/// `work` (if given) grows by this sweep's beams, edge-beams and crossings.
+double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline, SweepWork* work) {
+  const double side = kUvScale;
+  thread_local SweepScratch s;
+  make_sweep_edges(edges, s);
+  if (s.sweep.empty()) return side * side;
+  if (s.pos.size() < s.sweep.size()) s.pos.resize(s.sweep.size());
+  if (outline != nullptr) s.sink.reset(s.sweep, *outline);
+  const auto lower_end = [&](size_t k) { return s.order[k].y0; };
 
   // Below the lowest ordinate no edge is crossed: the field is 0 (and above the highest).
   double ya = lower_end(0);
   double area = ya * side;
+  std::vector<Crossing>& active = s.active;
   active.clear();
   size_t next = 0;
   while (true) {
@@ -298,104 +394,35 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
         active[kept++] = c;
         yb = std::min(yb, c.y1);
       } else if (outline != nullptr) {
-        sink.mark(c.edge, 0, c.y1);
+        s.sink.mark(c.edge, 0, c.y1);
       }
     }
     active.resize(kept);
-    for (; next < order.size() && lower_end(next) <= ya; ++next) {
-      const uint32_t k = order[next].edge;
-      const SweepEdge& e = sweep[k];
+    for (; next < s.order.size() && lower_end(next) <= ya; ++next) {
+      const uint32_t k = s.order[next].edge;
+      const SweepEdge& e = s.sweep[k];
       active.push_back({e.x0, e.x0, e.y1, k, e.dir});
       yb = std::min(yb, e.y1);
     }
-    if (next < order.size()) yb = std::min(yb, lower_end(next));
+    if (next < s.order.size()) yb = std::min(yb, lower_end(next));
     if (active.empty()) {
-      if (next == order.size()) break;
+      if (next == s.order.size()) break;
       area += (yb - ya) * side;
       ya = yb;
       continue;
     }
-    const double h = yb - ya;
     if (work != nullptr) {
       ++work->beams;
       work->edge_beams += active.size();
     }
-    // Abscissae at both ends: at ya the previous beam's top (an edge that just started enters with
-    // xb at its lower end). End points exactly: edges meeting at a vertex then meet in x too, never
-    // a false crossing.
-    for (Crossing& c : active) {
-      const SweepEdge& e = sweep[c.edge];
-      c.xa = c.xb;
-      c.xb = yb == e.y1 ? e.x1 : e.x0 + (yb - e.y0) * e.slope;
-    }
-    // Order at ya, ties by the order at yb (nearly sorted already: the previous beam's order at
-    // its top, plus the edges that just started).
-    bool ordered = true;
-    for (size_t i = 1; i < active.size(); ++i) {
-      const Crossing key = active[i];
-      size_t j = i;
-      while (j > 0 && (active[j - 1].xa > key.xa ||
-                       (active[j - 1].xa == key.xa && active[j - 1].xb > key.xb))) {
-        active[j] = active[j - 1];
-        --j;
-      }
-      active[j] = key;
-    }
-    for (size_t i = 1; i < active.size(); ++i) ordered &= active[i - 1].xb <= active[i].xb;
-    if (ordered) {
+    if (advance_active(s, yb)) {
       // In order at both ends, so no two edges cross inside the beam: the uncovered width is
       // linear in y there, and its value at the middle times the height is the beam's exact area.
-      if (outline != nullptr) mark_walk(active, ya, sink);
-      area +=
-          h * uncovered_width(active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); });
-      ya = yb;
-      continue;
-    }
-    // Insertion-sort a copy by the order at yb: every swap is one pair whose order differs at
-    // the two ends, i.e. that crosses inside the beam.
-    swaps.clear();
-    by_top.assign(active.begin(), active.end());
-    for (size_t i = 1; i < by_top.size(); ++i) {
-      const Crossing key = by_top[i];
-      size_t j = i;
-      while (j > 0 && by_top[j - 1].xb > key.xb) {
-        const Crossing& left = by_top[j - 1];
-        if (left.xa < key.xa) {  // strictly left at ya, strictly right at yb
-          const double da = left.xa - key.xa, db = left.xb - key.xb;
-          swaps.push_back({std::clamp(ya + h * (da / (da - db)), ya, yb), left.edge, key.edge});
-        }
-        by_top[j] = by_top[j - 1];
-        --j;
-      }
-      by_top[j] = key;
-    }
-    if (work != nullptr) work->crossings += swaps.size();
-    marks.clear();
-    if (integrate_by_swaps(sweep, active, swaps, pos, co, ya, yb, side, area,
-                           outline != nullptr ? &marks : nullptr)) {
-      for (const Mark& m : marks) sink.mark(m.edge, m.coefficient, m.y);
-      ya = yb;
-      continue;
-    }
-    // Swaps not between neighbours (several crossings at one point, or rounding reordered close
-    // ones): split the beam at every crossing instead, each piece crossing-free.
-    cuts.clear();
-    for (const Swap& w : swaps)
-      if (w.y > ya && w.y < yb) cuts.push_back(w.y);
-    std::sort(cuts.begin(), cuts.end());
-    cuts.push_back(yb);
-    double lo = ya;
-    for (const double hi : cuts) {
-      if (!(hi > lo)) continue;
-      const double mid = 0.5 * (lo + hi);
-      for (Crossing& c : active) {  // xa as scratch: the next beam takes its xa from xb
-        const SweepEdge& e = sweep[c.edge];
-        c.xa = e.x0 + (mid - e.y0) * e.slope;
-      }
-      sort_by_x(active);
-      if (outline != nullptr) mark_walk(active, lo, sink);
-      area += (hi - lo) * uncovered_width(active, side, [](const Crossing& c) { return c.xa; });
-      lo = hi;
+      if (outline != nullptr) mark_walk(active, ya, s.sink);
+      area += (yb - ya) *
+              uncovered_width(active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); });
+    } else {
+      crossing_beam(s, ya, yb, outline, work, area);
     }
     ya = yb;
   }
