@@ -118,24 +118,32 @@ Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds
   return w <= 0 ? Cull::keep_positive : Cull::keep_negative;
 }
 
-/// Would every triangle of the cone's subtree be culled for receiver p: seen strictly from behind
-/// (keep_positive: normal · (p − x) < 0 for every normal of the cone and point of its sphere),
-/// or strictly from the front? With φ the angle the sphere subtends from p, the angle between a
-/// normal and p − x differs from the one between the axis and p − centre by at most θ + φ; the
-/// margin of 1e-9 in the cosine is far above the rounding of the per-triangle side tests.
-bool subtree_culled(const ExactNodeCone& cone, const DVec3& p, bool keep_positive) {
-  const DVec3 d = p - cone.center;
+/// Would every triangle of the cone's subtree (BVH node `node`) be culled for receiver p: seen
+/// strictly from behind (keep_positive: normal · (p − x) < 0 for every normal of the cone and point
+/// of its sphere), or strictly from the front? With φ the angle the sphere subtends from p, the
+/// angle between a normal and p − x differs from the one between the axis and p − centre by at
+/// most θ + φ. The stored (cos θ, sin θ) = R·(cos θ', sin θ') with θ' ≥ θ and R ≥ 1 (rounded
+/// outward), so the sums below bound the true ones from the safe side; the margin of 1e-6 in the
+/// cosine covers the axis' float length (within 2e-7 of 1) and is far above the rounding of the
+/// per-triangle side tests.
+bool subtree_culled(const ExactNodeCone& cone, const ExactBvh::Node& node, const DVec3& p,
+                    bool keep_positive) {
+  const DVec3 center = 0.5 * (DVec3(node.lo) + DVec3(node.hi));
+  const DVec3 d = p - center;
+  const DVec3 axis(cone.axis);
   // The axis on the kept side of p − centre: cos_axis has the kept sign, sin(θ + φ) ≥ 0 below,
   // so the test fails; decided before the square roots (most subtrees p sees from the front).
-  const double along = glm::dot(cone.axis, d);
+  const double along = glm::dot(axis, d);
   if (keep_positive ? along >= 0.0 : along <= 0.0) return false;
   const double dist = glm::length(d);
-  if (!(dist > cone.radius)) return false;
-  const double sin_phi = cone.radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
-  if (!(cone.cos_theta * cos_phi - cone.sin_theta * sin_phi > 0.0)) return false;  // θ + φ ≥ 90°
-  const double sin_sum = cone.sin_theta * cos_phi + cone.cos_theta * sin_phi;      // sin(θ + φ)
-  const double cos_axis = glm::dot(cone.axis, d) / dist;
-  return keep_positive ? cos_axis < -sin_sum - 1e-9 : cos_axis > sin_sum + 1e-9;
+  const double radius = cone.radius;
+  if (!(dist > radius)) return false;
+  const double sin_phi = radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
+  const double cos_theta = cone.cos_theta, sin_theta = cone.sin_theta;
+  if (!(cos_theta * cos_phi - sin_theta * sin_phi > 0.0)) return false;  // θ + φ ≥ 90°
+  const double sin_sum = sin_theta * cos_phi + cos_theta * sin_phi;      // sin(θ + φ)
+  const double cos_axis = along / dist;
+  return keep_positive ? cos_axis < -sin_sum - 1e-6 : cos_axis > sin_sum + 1e-6;
 }
 
 ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
@@ -358,11 +366,8 @@ int PixelUnion::classify_node(const ExactBvh::Node& n, bool inside) {
   // Inside the pyramid the box test is skipped, the back-face test is not: a subtree
   // holding a whole solid seen from outside has both sides, its children often one.
   const size_t index = static_cast<size_t>(&n - nodes.data());
-  // The cones are read after the box test: fetched meanwhile (an 80-byte record, two lines).
-  const auto fetch_cone = [&](size_t k) {
-    __builtin_prefetch(&cones[k]);
-    __builtin_prefetch(reinterpret_cast<const char*>(&cones[k]) + 64);
-  };
+  // The cones are read after the box test: fetched meanwhile.
+  const auto fetch_cone = [&](size_t k) { __builtin_prefetch(&cones[k]); };
   if (!cones.empty()) fetch_cone(index);
   const int c = inside ? ExactBvh::kInside : classify_box(proj_, n.lo, n.hi);
   if (c == ExactBvh::kOutside || cones.empty()) return c;
@@ -373,7 +378,7 @@ int PixelUnion::classify_node(const ExactBvh::Node& n, bool inside) {
   const ExactNodeCone& cone = cones[index];
   if (cone.solid == ExactOccluder::kNotSolid) return c;
   const Cull mode = cull_of(cone.solid);
-  if (mode == Cull::all || !subtree_culled(cone, p_, mode == Cull::keep_positive)) return c;
+  if (mode == Cull::all || !subtree_culled(cone, n, p_, mode == Cull::keep_positive)) return c;
   r_.candidates += cone.triangles;
   r_.culled += cone.triangles;
   return ExactBvh::kOutside;

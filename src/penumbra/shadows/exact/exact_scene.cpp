@@ -327,17 +327,28 @@ std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
   }
   const double len = glm::length(sum);
   if (solid == ExactOccluder::kNotSolid || !(len > 1e-12)) return range;
-  cone.axis = sum / len;
+  // The axis as stored (float), and θ measured from it: the bound holds for the stored cone.
+  const Vec3 axis(sum / len);
+  const DVec3 unit_axis = glm::normalize(DVec3(axis));
   double cos_theta = 1.0;
   for (uint32_t t = range.first; t < range.second; ++t)
-    cos_theta = std::min(cos_theta, glm::dot(cone.axis, unit_normals[t]));
-  // A little wider than measured, against the rounding of the normals and dot products.
+    cos_theta = std::min(cos_theta, glm::dot(unit_axis, unit_normals[t]));
+  // A little wider than measured, against the rounding of the normals and dot products; then
+  // rounded outward to float (cos down, sin and the radius up).
   cos_theta -= 1e-9;
   if (!(cos_theta > 0.0)) return range;
-  cone.cos_theta = cos_theta;
-  cone.sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-  cone.center = 0.5 * (DVec3(node.lo) + DVec3(node.hi));
-  cone.radius = 0.5 * glm::length(DVec3(node.hi) - DVec3(node.lo)) * (1.0 + 1e-9);
+  const auto down = [](double x) {
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) <= x ? f : std::nextafter(f, -1.0f);
+  };
+  const auto up = [](double x) {
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) >= x ? f : std::nextafter(f, 2.0f * f + 1.0f);
+  };
+  cone.axis = axis;
+  cone.cos_theta = down(cos_theta);
+  cone.sin_theta = up(std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta)));
+  cone.radius = up(0.5 * glm::length(DVec3(node.hi) - DVec3(node.lo)) * (1.0 + 1e-9));
   cone.solid = solid;
   return range;
 }
