@@ -36,6 +36,11 @@ void check_method(gpu::Backend& backend, const std::string& method, const test::
   EXPECT_LE(d.max, max_bound);
   EXPECT_LE(d.mean, 1e-4);
   EXPECT_EQ(g.counters.at("wedges"), c.counters.at("wedges"));
+  // The per-pixel pass's counters exist only where it ran on the CPU: left out, not reported as 0.
+  EXPECT_GT(c.counters.at("pixel_tests"), 0.0);
+  for (const char* counter :
+       {"pixel_tests", "pixels_inside_wedges", "pixels_covered", "part_blends", "part_overlaps"})
+    EXPECT_EQ(g.counters.count(counter), 0u) << counter;
   EXPECT_EQ(backend.context().validation_messages(), 0u);
 }
 

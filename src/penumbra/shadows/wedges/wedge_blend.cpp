@@ -353,6 +353,7 @@ Image<float> wedge_blend_visibility(const ShadowContext& ctx, WedgeBlendStats* s
     st.blends += r.blends;
     st.overlaps += r.overlaps;
   }
+  ws.pass2_on_device = static_cast<bool>(pass2);  // which counts none of these
   ws.pixel_tests = pc.tests;
   ws.pixels_inside = pc.inside;
   ws.pixels_covered = pc.covered;
@@ -391,8 +392,10 @@ class WedgeBlend final : public ShadowMethod {
     if (!rgb.empty()) v.lit_rgb = std::move(rgb);
     report_wedge_stats(st.wedges, "pass2_blend", v);
     v.counters["groups"] = static_cast<double>(st.groups);
-    v.counters["part_blends"] = static_cast<double>(st.blends);
-    v.counters["part_overlaps"] = static_cast<double>(st.overlaps);
+    if (!st.wedges.pass2_on_device) {
+      v.counters["part_blends"] = static_cast<double>(st.blends);
+      v.counters["part_overlaps"] = static_cast<double>(st.overlaps);
+    }
     return v;
   }
 

@@ -173,6 +173,7 @@ Image<float> visibility_for_light(const ShadowContext& ctx, const Light& light,
   if (options.pass2 && !(rgb.out && rgb.table)) {
     Image<float> vis = device_pass2(ctx, light, bw, options, count, gcount, rgb, tex);
     st.pass2_ms += elapsed_ms(start);
+    st.pass2_on_device = true;
     return vis;
   }
   PassCounters pc;
@@ -450,9 +451,11 @@ void report_wedge_stats(const WedgeStats& st, const char* pass2_stage, Visibilit
   v.times.add(pass2_stage, st.pass2_ms);
   v.counters["silhouette_edges"] = static_cast<double>(st.silhouette_edges);
   v.counters["wedges"] = static_cast<double>(st.wedges);
-  v.counters["pixel_tests"] = static_cast<double>(st.pixel_tests);
-  v.counters["pixels_inside_wedges"] = static_cast<double>(st.pixels_inside);
-  v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
+  if (!st.pass2_on_device) {
+    v.counters["pixel_tests"] = static_cast<double>(st.pixel_tests);
+    v.counters["pixels_inside_wedges"] = static_cast<double>(st.pixels_inside);
+    v.counters["pixels_covered"] = static_cast<double>(st.pixels_covered);
+  }
   v.counters["light_plane_fallbacks"] = static_cast<double>(st.plane_fallbacks);
   v.counters["wedge_construction_fallbacks"] = static_cast<double>(st.wedge_fallbacks);
   stsv::report(st.stsv, v);

@@ -90,9 +90,12 @@ struct WedgeStats {
   size_t silhouette_edges = 0;
   size_t wedges = 0;
   size_t sub_lights = 0;
-  uint64_t pixel_tests = 0;      // (pixel, wedge) pairs tested against the wedge planes
-  uint64_t pixels_inside = 0;    // of those, inside the wedge
-  uint64_t pixels_covered = 0;   // of those, with a nonzero coverage (the edge cuts the light)
+  uint64_t pixel_tests = 0;     // (pixel, wedge) pairs tested against the wedge planes
+  uint64_t pixels_inside = 0;   // of those, inside the wedge
+  uint64_t pixels_covered = 0;  // of those, with a nonzero coverage (the edge cuts the light)
+  /// Pass 2 ran on a device (WedgeOptions::pass2), which does not count its pixel tests: the
+  /// three counters above are then left out of the report rather than reported as 0.
+  bool pass2_on_device = false;
   uint64_t plane_fallbacks = 0;  // pixels in the light's plane: no coverage (hard count only)
   size_t wedge_fallbacks = 0;    // wedges missing a plane of their construction (looser)
   double silhouettes_ms = 0.0, pass1_ms = 0.0, wedges_ms = 0.0, pass2_ms = 0.0;
