@@ -185,6 +185,7 @@ ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
 /// clears them) and the per-pixel lists, allocated once.
 struct Scratch {
   struct OpenTriangle {
+    OpenTriangle() {}  // filled where it is listed (keep_opaque): not zeroed first
     uint32_t prim;
     DVec2 q[3];  // uv × kUvScale of v[0], v[1], v[2]
   };
@@ -445,7 +446,9 @@ bool PixelUnion::keep_opaque(uint32_t prim, const ExactOccluder& o, double side,
   }
   if (open_ok_ && h[0].z >= kOpenMinW && h[1].z >= kOpenMinW && h[2].z >= kOpenMinW &&
       h[0].z <= kShadowSegmentEnd && h[1].z <= kShadowSegmentEnd && h[2].z <= kShadowSegmentEnd) {
-    Scratch::OpenTriangle t{prim, {}};
+    // Built in place (a temporary's zeroing and copy were string instructions here).
+    Scratch::OpenTriangle& t = sc_.open.emplace_back();
+    t.prim = prim;
     for (int k = 0; k < 3; ++k) t.q[k] = open_uv(h[k]);
     // One that may cover the whole square is clipped instead (the umbra test below).
     const double lo_x = std::min({t.q[0].x, t.q[1].x, t.q[2].x});
@@ -454,10 +457,10 @@ bool PixelUnion::keep_opaque(uint32_t prim, const ExactOccluder& o, double side,
     const double hi_y = std::max({t.q[0].y, t.q[1].y, t.q[2].y});
     if (!(lo_x <= 0.0 && lo_y <= 0.0 && hi_x >= kUvScale && hi_y >= kUvScale)) {
       sc_.stamp[prim] = mark_ | open_bit_ | side_bit;
-      sc_.open.push_back(t);
       ++r_.polygons;
       return true;
     }
+    sc_.open.pop_back();
   }
   sc_.stamp[prim] = mark_ | side_bit;
   if (sc_.clipped.size() == clipped_count_) sc_.clipped.emplace_back();
