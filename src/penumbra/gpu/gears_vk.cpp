@@ -14,7 +14,6 @@
 // buffers, and the longest cell to size the rasterization's chunks.
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <deque>
 
 #include "penumbra/core/error.hpp"
@@ -531,6 +530,198 @@ std::vector<Vec3> light_corners(const Plan& plan, float r) {
   return corners;
 }
 
+/// The host's frame data for both sides of the light plane, as the CPU gears prepares it.
+struct HostFrame {
+  std::vector<uint32_t> active;  // the active pixels' indices
+  LightFrame frame0;             // the light's frame seen from below its centre
+  Vec3 toward{0.0f};             // light space's facing direction
+  std::vector<Vec3> p_light;     // per active pixel: its shadow origin in light space
+  std::vector<float> pix;        // per active pixel: the 20 floats of pixel_data
+  Occluders occ;
+  uint32_t tri_count = 0;
+  gears::TriangleSoup soup;  // the occluders as the CPU's soup; empty without the per-pixel culls
+  gears::Solids solids;
+  float r = 0.0f;  // a sphere light's radius, in light-space z units
+  std::vector<Vec3> corners;
+  SampleSetup ss;
+};
+
+/// The active pixels and the direction light space faces: the light's emitting normal, or for
+/// point and sphere lights toward the active pixels' box.
+void active_pixels_and_toward(const ShadowContext& ctx, const Plan& plan, HostFrame& h) {
+  const GBuffer& g = ctx.gbuffer;
+  const Light& light = ctx.light;
+  for (size_t i = 0; i < g.pixel_count(); ++i)
+    if (ctx.receivers[i] == kActive) h.active.push_back(static_cast<uint32_t>(i));
+  h.frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
+  h.toward = h.frame0.emit_normal;
+  if (plan.sphere || plan.point) {
+    Bounds3 b;
+    for (uint32_t i : h.active) b.extend(g.shadow_origin(i));
+    h.toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
+  }
+}
+
+/// The solids each pixel is certified outside of, for the CPU's solid cull: into pix as the w of
+/// its w and eu vectors, as two 32-bit halves.
+void mark_outside_solids(HostFrame& h) {
+  for (size_t a = 0; a < h.active.size(); ++a) {
+    const uint64_t outside = h.solids.outside(h.p_light[a]);
+    h.pix[20 * a + 7] = std::bit_cast<float>(static_cast<uint32_t>(outside));
+    h.pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
+  }
+}
+
+/// The device buffers both sides share: emitting samples, alpha texels, sample positions, each
+/// pixel's cell, the masks (then, for semi-opaque occluders, each pixel's per-sample
+/// transmittances, in the same buffer since the shaders' push constants are full), and the
+/// per-triangle scratch of the count and pair passes.
+struct FrameBuffers {
+  Buffer emit, texels, samples, cell, rows, counts, rects, zmin;
+  Buffer totals;  // last count, last offset, Σcounts/1024
+  size_t mask_words = 0, trans_words = 0;
+};
+
+FrameBuffers upload_frame(VulkanContext& vk, const Plan& plan, const HostFrame& h,
+                          StageTimes& times) {
+  ScopedStage stage(times, "wall_upload");
+  const uint32_t na = static_cast<uint32_t>(h.active.size());
+  const uint32_t tris = std::max<uint32_t>(h.tri_count, 1);
+  FrameBuffers b;
+  b.emit = plan.use_rows ? vk.upload(h.ss.emit_rows) : vk.upload(h.ss.emit_bits);
+  b.texels = vk.upload(h.occ.texels);
+  b.samples = vk.upload(h.ss.sample_uv);
+  b.cell = Buffer(vk, std::max<size_t>(na, 1) * 4, Memory::device);
+  const size_t words_per_pixel = plan.use_rows ? static_cast<size_t>(plan.k) : plan.words;
+  b.mask_words = size_t{na} * words_per_pixel;
+  b.trans_words = h.occ.semi_opaque ? size_t{na} * static_cast<size_t>(plan.ns) : 0;
+  b.rows = Buffer(vk, std::max<size_t>(b.mask_words + b.trans_words, 1) * 4, Memory::device);
+  b.counts = Buffer(vk, size_t{tris} * 4, Memory::device);
+  b.rects = Buffer(vk, size_t{tris} * 16, Memory::device);
+  b.zmin = Buffer(vk, size_t{tris} * 4, Memory::device);
+  b.totals = Buffer(vk, 16, Memory::device);
+  vk.submit_now([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, b.rows.handle(), 0, VK_WHOLE_SIZE, 0);
+    if (b.trans_words > 0)
+      vkCmdFillBuffer(cmd, b.rows.handle(), b.mask_words * 4, b.trans_words * 4,
+                      std::bit_cast<uint32_t>(1.0f));
+  });
+  return b;
+}
+
+/// The grid camera as shaders/gears.glsl reads it.
+GridCameraGpu camera_gpu(const gears::GridCamera& cam, int side) {
+  GridCameraGpu cg{};
+  cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
+  cg.plane_z = cam.plane_z;
+  cg.grid_lo[0] = cam.grid_lo.x, cg.grid_lo[1] = cam.grid_lo.y;
+  cg.cell_scale[0] = cam.cell_scale.x, cg.cell_scale[1] = cam.cell_scale.y;
+  cg.res_x = cam.res_x, cg.res_y = cam.res_y;
+  cg.far_z = cam.far_z, cg.light_max_z = cam.light_max_z, cg.light_min_z = cam.light_min_z;
+  cg.corner_count = static_cast<int32_t>(cam.light_corners.size());
+  cg.side = static_cast<float>(side);
+  for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
+    for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
+  return cg;
+}
+
+/// One side's device inputs: its grid camera, the pixels with this side's slab bounds, the
+/// triangles in this side's depth order with their cull data, and each cell's deepest sample.
+struct SideInputs {
+  gears::GridCamera cam;
+  Buffer cam_buf, pix_buf, tri_buf, alpha_buf, cell_max_z;
+  uint32_t cells = 0;
+};
+
+/// Submission 1: each pixel's cell, each triangle's cell count and their exclusive prefix sum.
+/// Returns the pair count, read back to size the pair buffers.
+uint32_t count_pairs(VulkanContext& vk, Programs& programs, const FrameBuffers& fb,
+                     const SideInputs& si, uint32_t na, uint32_t tri_count,
+                     std::deque<Buffer>& scratch, StageTimes& times) {
+  CommandList cl(vk);
+  cl.fill(fb.totals, 0);
+  cl.fill(si.cell_max_z, 0);
+  cl.barrier();
+  cl.dispatch(programs.get(Shader::gears_cells),
+              CellsPush{si.cam_buf.address(), si.pix_buf.address(), fb.cell.address(),
+                        si.cell_max_z.address(), na},
+              na);
+  cl.barrier();
+  cl.mark("pixel_cells");
+  cl.dispatch(
+      programs.get(Shader::gears_count),
+      CountPush{si.cam_buf.address(), si.tri_buf.address(), fb.counts.address(), fb.rects.address(),
+                fb.totals.address() + 8, si.cell_max_z.address(), fb.zmin.address(), tri_count},
+      tri_count);
+  cl.barrier();
+  cl.copy(fb.counts, fb.totals, 4, size_t{tri_count - 1} * 4, 0);
+  cl.barrier();
+  cl.mark("triangle_count");
+  record_exclusive_scan(programs, cl, fb.counts, tri_count, scratch);
+  cl.copy(fb.counts, fb.totals, 4, size_t{tri_count - 1} * 4, 4);
+  cl.barrier();
+  cl.mark("prefix_sum");
+  cl.submit(&times);
+  const std::vector<uint32_t> tot = vk.download<uint32_t>(fb.totals, 3);
+  if (uint64_t{tot[2]} * 1024 >= (uint64_t{1} << 31))
+    throw Error("gears on vulkan: more than 2^31 triangle-cell pairs (lower gears.grid)");
+  return tot[0] + tot[1];
+}
+
+/// Each cell's list of triangles: the (cell, triangle) pairs radix sorted by cell (stable, so
+/// each list keeps the depth order), each cell's [begin, end) and the longest list's length.
+struct CellLists {
+  Buffer keys, vals, keys_tmp, vals_tmp, begin, end;
+  bool in_place = true;  // the sorted pairs are in keys/vals, else in keys_tmp/vals_tmp
+  uint32_t longest = 0;
+  const Buffer& sorted_vals() const { return in_place ? vals : vals_tmp; }
+};
+
+/// Submission 2: the pairs, their sort by cell and the per-cell ranges [Wang 2014 §4.2]; the
+/// longest list is read back to size the rasterization's chunks.
+CellLists sort_pairs(VulkanContext& vk, Programs& programs, const FrameBuffers& fb,
+                     const SideInputs& si, uint32_t pairs, uint32_t tri_count,
+                     std::deque<Buffer>& scratch, StageTimes& times) {
+  CellLists lists;
+  lists.keys = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.vals = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.keys_tmp = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.vals_tmp = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.begin = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+  lists.end = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+  CommandList cl(vk);
+  cl.dispatch(programs.get(Shader::gears_write),
+              WritePush{fb.rects.address(), fb.counts.address(), lists.keys.address(),
+                        lists.vals.address(), si.cell_max_z.address(), fb.zmin.address(), tri_count,
+                        static_cast<uint32_t>(si.cam.res_x), si.cam.light_max_z},
+              tri_count);
+  cl.barrier();
+  cl.mark("pair_write");
+  const int key_bits = std::max(1, static_cast<int>(std::bit_width(si.cells - 1)));
+  lists.in_place = record_radix_sort(programs, cl, lists.keys, lists.vals, lists.keys_tmp,
+                                     lists.vals_tmp, pairs, key_bits, scratch);
+  const Buffer& sorted_keys = lists.in_place ? lists.keys : lists.keys_tmp;
+  cl.mark("radix_sort");
+  cl.fill(lists.begin, 0);
+  cl.fill(lists.end, 0);
+  cl.barrier();
+  cl.dispatch(programs.get(Shader::gears_ranges),
+              RangesPush{sorted_keys.address(), lists.begin.address(), lists.end.address(), pairs},
+              pairs);
+  cl.barrier();
+  cl.fill(fb.totals, 0);
+  cl.barrier();
+  cl.dispatch(
+      programs.get(Shader::gears_longest),
+      LongestPush{lists.begin.address(), lists.end.address(), fb.totals.address(), si.cells},
+      si.cells);
+  cl.barrier();
+  cl.mark("cell_ranges");
+  cl.submit(&times);
+  lists.longest = vk.download<uint32_t>(fb.totals, 1)[0];
+  return lists;
+}
+
 class GearsVk final : public ShadowMethod {
  public:
   GearsVk(Backend& backend, const MethodOptions& o) : backend_(backend) {
@@ -552,11 +743,8 @@ class GearsVk final : public ShadowMethod {
   }
 
   Visibility compute(const ShadowContext& ctx) override {
-    using namespace penumbra::gears;
     VulkanContext& vk = backend_.context();
-    Programs& programs = backend_.programs();
     const GBuffer& g = ctx.gbuffer;
-    const Light& light = ctx.light;
     const Plan plan = plan_of(ctx, lut_);
     // A triangle's count and pair passes loop over its cells: up to grid² iterations, which
     // llvmpipe would cut short (and drop pairs) past its 65535-iteration limit.
@@ -564,232 +752,136 @@ class GearsVk final : public ShadowMethod {
       throw Error("gears on vulkan: gears.grid " + std::to_string(grid_) + " exceeds " +
                   std::to_string(kMaxCpuDeviceGrid) + " on " + vk.device_name() +
                   " (a CPU device's shader loops are limited); lower it or use a GPU");
-    const bool sphere = plan.sphere, point = plan.point, per_pixel = plan.per_pixel;
-    const bool use_rows = plan.use_rows;
-    const int n = plan.n, k = plan.k, ns = plan.ns;
-    const uint32_t words = plan.words;
-    const Texture* emission = plan.emission;
 
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
-    if (emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
-    SampleMasks masks(g.width, g.height, n);
+    if (plan.emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    SampleMasks masks(g.width, g.height, plan.n);
+    HostFrame h = host_setup(ctx, plan, masks.words_per_pixel(), vis.times);
+    const FrameBuffers fb = upload_frame(vk, plan, h, vis.times);
 
-    // ---- Host setup: light space, per-pixel light frames, occluders (as the CPU gears).
-    auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint32_t> active;
-    for (size_t i = 0; i < g.pixel_count(); ++i)
-      if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
-    const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
-    Vec3 toward = frame0.emit_normal;
-    if (sphere || point) {
-      Bounds3 b;
-      for (uint32_t i : active) b.extend(g.shadow_origin(i));
-      toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
-    }
-    const LightSpace space = make_light_space(light, frame0, toward, +1);
-    std::vector<Vec3> p_light;
-    std::vector<float> pix;
-    pixel_data(ctx, space, plan, active, p_light, pix);
-    Occluders occ = gather_occluders(ctx.scene, space);
-    const std::vector<float>& tris = occ.tris;
-    std::vector<uint32_t>& texels = occ.texels;
-    const bool semi_opaque = occ.semi_opaque, translucent = occ.translucent;
-    const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
-    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
-    // certified outside of (pix: the w of its w and eu vectors, as two 32-bit halves).
-    const gears::TriangleSoup soup = pixel_cull_ ? soup_of(occ) : gears::TriangleSoup{};
-    gears::Solids solids;
-    if (pixel_cull_ && solid_cull_) {
-      if (!prepared_) prepare(ctx.scene);
-      solids = find_solids(components_, soup);
-      for (size_t a = 0; a < active.size(); ++a) {
-        const uint64_t outside = solids.outside(p_light[a]);
-        pix[20 * a + 7] = std::bit_cast<float>(static_cast<uint32_t>(outside));
-        pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
-      }
-    }
-    const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
-    const std::vector<Vec3> corners = light_corners(plan, r);
-    const SampleSetup ss = sample_setup(ctx, plan, frame0, active, masks.words_per_pixel());
-    const Vec2 uv_lo = ss.uv_lo, uv_hi = ss.uv_hi;
-    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
-    // occluders keep the list's order, so that their products are formed in the CPU's order.
-    const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
-    if (plan.use_lut) append_lut(ss.shared, lut_resolution_, texels);
-    vis.times.add("light_space_setup", elapsed_ms(t0));
-
-    t0 = std::chrono::steady_clock::now();
-    const uint32_t na = static_cast<uint32_t>(active.size());
-    const Buffer emit_buf = use_rows ? vk.upload(ss.emit_rows) : vk.upload(ss.emit_bits);
-    const Buffer texel_buf = vk.upload(texels);
-    const Buffer sample_buf = vk.upload(ss.sample_uv);
-    const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
-    const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
-    // Semi-opaque occluders: each pixel's per-sample transmittances (floats, 1 at first) after
-    // the masks, in the same buffer (the shaders' push constants are full).
-    const size_t mask_words = size_t{na} * words_per_pixel;
-    const size_t trans_words = semi_opaque ? size_t{na} * static_cast<size_t>(ns) : 0;
-    const Buffer rows_buf(vk, std::max<size_t>(mask_words + trans_words, 1) * 4, Memory::device);
-    const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
-    const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
-    const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
-    const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
-    vk.submit_now([&](VkCommandBuffer cmd) {
-      vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0);
-      if (trans_words > 0)
-        vkCmdFillBuffer(cmd, rows_buf.handle(), mask_words * 4, trans_words * 4,
-                        std::bit_cast<uint32_t>(1.0f));
-    });
-    vis.times.add("wall_upload", elapsed_ms(t0));
-
-    double wall_gpu = 0.0;
+    // Both sides' submissions are one stage, added after both (after their GPU stages).
+    StageTimes wall;
     uint64_t total_pairs = 0;
-    for (int side : {+1, -1}) {
-      std::vector<Vec3> pts;
-      for (const Vec3& q : p_light)
-        if ((side > 0) == (q.z >= 0.0f)) pts.emplace_back(q.x, q.y, side * q.z);
-      if (pts.empty() || tri_count == 0) continue;
-      t0 = std::chrono::steady_clock::now();
-      const LightSpace side_space = make_light_space(light, frame0, toward, side);
-      const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_,
-                                              grid_resolution_vk(grid_, g.width, g.height));
-      GridCameraGpu cg{};
-      cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
-      cg.plane_z = cam.plane_z;
-      cg.grid_lo[0] = cam.grid_lo.x, cg.grid_lo[1] = cam.grid_lo.y;
-      cg.cell_scale[0] = cam.cell_scale.x, cg.cell_scale[1] = cam.cell_scale.y;
-      cg.res_x = cam.res_x, cg.res_y = cam.res_y;
-      cg.far_z = cam.far_z, cg.light_max_z = cam.light_max_z, cg.light_min_z = cam.light_min_z;
-      cg.corner_count = static_cast<int32_t>(cam.light_corners.size());
-      cg.side = static_cast<float>(side);
-      for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
-        for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
-      const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
-      const SideTriangles sorted =
-          side_cull_data(cam, side, !per_pixel && !point && !sphere, uv_lo, uv_hi, p_light, pix,
-                         occ, pixel_cull_ ? &soup : nullptr, solids);
-      const Buffer pix_buf = vk.upload(pix);
-      const Buffer tri_buf = vk.upload(sorted.tris);
-      const Buffer alpha_buf = vk.upload(sorted.alpha);
-      const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
-      const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
-      vis.times.add("grid_camera", elapsed_ms(t0));
+    for (int side : {+1, -1}) total_pairs += run_side(vk, ctx, plan, h, fb, side, vis.times, wall);
+    vis.times.add("wall_gpu", wall.get("wall_gpu"));
 
-      // Submission 1: cells, counts, prefix sum.
-      t0 = std::chrono::steady_clock::now();
-      std::deque<Buffer> scratch;
-      {
-        CommandList cl(vk);
-        cl.fill(totals, 0);
-        cl.fill(cell_max_z, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_cells),
-                    CellsPush{cam_buf.address(), pix_buf.address(), cell_buf.address(),
-                              cell_max_z.address(), na},
-                    na);
-        cl.barrier();
-        cl.mark("pixel_cells");
-        cl.dispatch(
-            programs.get(Shader::gears_count),
-            CountPush{cam_buf.address(), tri_buf.address(), counts.address(), rects.address(),
-                      totals.address() + 8, cell_max_z.address(), zmin.address(), tri_count},
-            tri_count);
-        cl.barrier();
-        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 0);
-        cl.barrier();
-        cl.mark("triangle_count");
-        record_exclusive_scan(programs, cl, counts, tri_count, scratch);
-        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 4);
-        cl.barrier();
-        cl.mark("prefix_sum");
-        cl.submit(&vis.times);
-      }
-      const std::vector<uint32_t> tot = vk.download<uint32_t>(totals, 3);
-      if (uint64_t{tot[2]} * 1024 >= (uint64_t{1} << 31))
-        throw Error("gears on vulkan: more than 2^31 triangle-cell pairs (lower gears.grid)");
-      const uint32_t pairs = tot[0] + tot[1];
-      total_pairs += pairs;
-
-      // Submission 2: pairs, sort by cell, per-cell ranges, rasterization.
-      if (pairs > 0) {
-        const Buffer keys(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer vals(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer keys_tmp(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer vals_tmp(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer begin(vk, size_t{cells} * 4, Memory::device);
-        const Buffer end(vk, size_t{cells} * 4, Memory::device);
-        CommandList cl(vk);
-        cl.dispatch(programs.get(Shader::gears_write),
-                    WritePush{rects.address(), counts.address(), keys.address(), vals.address(),
-                              cell_max_z.address(), zmin.address(), tri_count,
-                              static_cast<uint32_t>(cam.res_x), cam.light_max_z},
-                    tri_count);
-        cl.barrier();
-        cl.mark("pair_write");
-        const int key_bits = std::max(1, static_cast<int>(std::bit_width(cells - 1)));
-        const bool in_place = record_radix_sort(programs, cl, keys, vals, keys_tmp, vals_tmp, pairs,
-                                                key_bits, scratch);
-        const Buffer& sorted_keys = in_place ? keys : keys_tmp;
-        const Buffer& sorted_vals = in_place ? vals : vals_tmp;
-        cl.mark("radix_sort");
-        cl.fill(begin, 0);
-        cl.fill(end, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_ranges),
-                    RangesPush{sorted_keys.address(), begin.address(), end.address(), pairs},
-                    pairs);
-        cl.barrier();
-        cl.fill(totals, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_longest),
-                    LongestPush{begin.address(), end.address(), totals.address(), cells}, cells);
-        cl.barrier();
-        cl.mark("cell_ranges");
-        cl.submit(&vis.times);
-        const uint32_t longest = vk.download<uint32_t>(totals, 1)[0];
-
-        // Submission 3: the rasterization, in chunks of each cell's list.
-        CommandList raster(vk);
-        const RasterInputs in{pix_buf.address(),
-                              tri_buf.address(),
-                              cell_buf.address(),
-                              begin.address(),
-                              end.address(),
-                              sorted_vals.address(),
-                              rows_buf.address(),
-                              emit_buf.address(),
-                              sample_buf.address(),
-                              alpha_buf.address(),
-                              texel_buf.address(),
-                              na,
-                              uv_lo,
-                              uv_hi,
-                              deepest_first,
-                              pixel_cull_,
-                              pixel_cull_ && hidden_cull_,
-                              translucent};
-        record_rasterization(programs, raster, plan, in, longest);
-        raster.mark("rasterize");
-        raster.submit(&vis.times);
-      }
-      wall_gpu += elapsed_ms(t0);
+    {  // Readback: the masks, and V weighted as on the CPU.
+      ScopedStage stage(vis.times, "wall_readback");
+      const std::vector<uint32_t> rows =
+          vk.download<uint32_t>(fb.rows, fb.mask_words + fb.trans_words);
+      read_back(ctx, plan, h.ss, h.active, rows, fb.mask_words, h.occ.semi_opaque, masks, vis);
     }
-    vis.times.add("wall_gpu", wall_gpu);
-
-    // ---- Readback: the masks, and V weighted as on the CPU.
-    t0 = std::chrono::steady_clock::now();
-    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, mask_words + trans_words);
-    read_back(ctx, plan, ss, active, rows, mask_words, semi_opaque, masks, vis);
-    vis.times.add("wall_readback", elapsed_ms(t0));
-    vis.counters["triangles"] = tri_count;
-    vis.counters["active_pixels"] = na;
+    vis.counters["triangles"] = h.tri_count;
+    vis.counters["active_pixels"] = static_cast<double>(h.active.size());
     vis.counters["pairs"] = static_cast<double>(total_pairs);
     if (ctx.want_masks) vis.masks = std::move(masks);
     return vis;
   }
 
  private:
+  /// Host setup, as the CPU gears: light space, per-pixel data, the occluders with the per-pixel
+  /// culls' soup and solids, and the light samples (with the LUT [Wang 2014 §4.3]).
+  HostFrame host_setup(const ShadowContext& ctx, const Plan& plan, int words64, StageTimes& times) {
+    ScopedStage stage(times, "light_space_setup");
+    HostFrame h;
+    active_pixels_and_toward(ctx, plan, h);
+    const gears::LightSpace space = gears::make_light_space(ctx.light, h.frame0, h.toward, +1);
+    pixel_data(ctx, space, plan, h.active, h.p_light, h.pix);
+    h.occ = gather_occluders(ctx.scene, space);
+    h.tri_count = static_cast<uint32_t>(h.occ.tris.size() / 12);
+    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
+    // certified outside of.
+    if (pixel_cull_) h.soup = soup_of(h.occ);
+    if (pixel_cull_ && solid_cull_) {
+      if (!prepared_) prepare(ctx.scene);
+      h.solids = gears::find_solids(components_, h.soup);
+      mark_outside_solids(h);
+    }
+    h.r = plan.sphere ? ctx.light.radius / glm::length(space.axis_n) : 0.0f;
+    h.corners = light_corners(plan, h.r);
+    h.ss = sample_setup(ctx, plan, h.frame0, h.active, words64);
+    if (plan.use_lut) append_lut(h.ss.shared, lut_resolution_, h.occ.texels);
+    return h;
+  }
+
+  /// One side of the light plane (+1: the pixels in front of it; −1: those behind, z mirrored):
+  /// its grid camera and inputs, then the three submissions. Returns its pair count; the
+  /// submissions' wall time goes to `wall`.
+  uint32_t run_side(VulkanContext& vk, const ShadowContext& ctx, const Plan& plan, HostFrame& h,
+                    const FrameBuffers& fb, int side, StageTimes& times, StageTimes& wall) const {
+    std::vector<Vec3> pts;
+    for (const Vec3& q : h.p_light)
+      if ((side > 0) == (q.z >= 0.0f)) pts.emplace_back(q.x, q.y, side * q.z);
+    if (pts.empty() || h.tri_count == 0) return 0;
+    const SideInputs si = side_inputs(vk, ctx, plan, h, side, pts, times);
+    ScopedStage gpu(wall, "wall_gpu");
+    Programs& programs = backend_.programs();
+    const uint32_t na = static_cast<uint32_t>(h.active.size());
+    std::deque<Buffer> scratch;
+    const uint32_t pairs = count_pairs(vk, programs, fb, si, na, h.tri_count, scratch, times);
+    if (pairs > 0) {
+      const CellLists lists = sort_pairs(vk, programs, fb, si, pairs, h.tri_count, scratch, times);
+      rasterize(vk, programs, plan, h, fb, si, lists, times);
+    }
+    return pairs;
+  }
+
+  /// One side's grid camera over `pts` (its pixels, z mirrored) and its device inputs; h.pix's
+  /// slab bounds are this side's from here on.
+  SideInputs side_inputs(VulkanContext& vk, const ShadowContext& ctx, const Plan& plan,
+                         HostFrame& h, int side, const std::vector<Vec3>& pts,
+                         StageTimes& times) const {
+    ScopedStage stage(times, "grid_camera");
+    SideInputs si;
+    const gears::LightSpace side_space =
+        gears::make_light_space(ctx.light, h.frame0, h.toward, side);
+    si.cam =
+        gears::make_grid_camera(side_space, h.corners, h.r, pts, eye_distance_,
+                                grid_resolution_vk(grid_, ctx.gbuffer.width, ctx.gbuffer.height));
+    const GridCameraGpu cg = camera_gpu(si.cam, side);
+    si.cam_buf = vk.upload(&cg, sizeof(cg));
+    const SideTriangles sorted = side_cull_data(
+        si.cam, side, !plan.per_pixel && !plan.point && !plan.sphere, h.ss.uv_lo, h.ss.uv_hi,
+        h.p_light, h.pix, h.occ, pixel_cull_ ? &h.soup : nullptr, h.solids);
+    si.pix_buf = vk.upload(h.pix);
+    si.tri_buf = vk.upload(sorted.tris);
+    si.alpha_buf = vk.upload(sorted.alpha);
+    si.cells = static_cast<uint32_t>(si.cam.cell_count());
+    si.cell_max_z = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+    return si;
+  }
+
+  /// Submission 3: the rasterization of every pixel's cell list, in chunks of the longest.
+  void rasterize(VulkanContext& vk, Programs& programs, const Plan& plan, const HostFrame& h,
+                 const FrameBuffers& fb, const SideInputs& si, const CellLists& lists,
+                 StageTimes& times) const {
+    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
+    // occluders keep the list's order, so that their products are formed in the CPU's order.
+    const bool deepest_first = deepest_first_ && pixel_cull_ && !h.occ.semi_opaque;
+    CommandList raster(vk);
+    const RasterInputs in{si.pix_buf.address(),
+                          si.tri_buf.address(),
+                          fb.cell.address(),
+                          lists.begin.address(),
+                          lists.end.address(),
+                          lists.sorted_vals().address(),
+                          fb.rows.address(),
+                          fb.emit.address(),
+                          fb.samples.address(),
+                          si.alpha_buf.address(),
+                          fb.texels.address(),
+                          static_cast<uint32_t>(h.active.size()),
+                          h.ss.uv_lo,
+                          h.ss.uv_hi,
+                          deepest_first,
+                          pixel_cull_,
+                          pixel_cull_ && hidden_cull_,
+                          h.occ.translucent};
+    record_rasterization(programs, raster, plan, in, lists.longest);
+    raster.mark("rasterize");
+    raster.submit(&times);
+  }
   Backend& backend_;
   int grid_ = 0;
   bool lut_ = false;
