@@ -11,26 +11,25 @@
 //          occluders scale per-sample transmittances instead of setting bits;
 //   host:  the masks read back into SampleMasks and weighted exactly as the CPU gears does.
 // Three submissions per side of the light plane: the pair count is read back to size the pair
-// buffers, and the longest cell to size the rasterization's chunks.
+// buffers, and the longest cell to size the rasterization's chunks. The host's part is in
+// gears_vk_host.cpp.
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <deque>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
+#include "penumbra/gpu/gears_vk_host.hpp"
 #include "penumbra/gpu/sort.hpp"
-#include "penumbra/render/receivers.hpp"
-#include "penumbra/scene/material.hpp"
 #include "penumbra/shadows/gears/grid_camera.hpp"
 #include "penumbra/shadows/gears/item_cull.hpp"
-#include "penumbra/shadows/gears/lut.hpp"
 #include "penumbra/shadows/gears/solids.hpp"
-#include "penumbra/shadows/light_weights.hpp"
 
 namespace penumbra::gpu {
 
 namespace {
+
+using namespace gears_host;  // the host's part (gears_vk_host.hpp)
 
 // shaders/gears.glsl's GridCamera (scalar layout: every member 4-byte aligned).
 struct GridCameraGpu {
@@ -111,350 +110,6 @@ int grid_resolution_vk(int option, int width, int height) {
   return std::clamp((std::max(width, height) + 1) / 2, 16, kMaxCpuDeviceGrid);
 }
 
-void push4(std::vector<float>& out, const Vec3& v) {
-  out.insert(out.end(), {v.x, v.y, v.z, 0.0f});
-}
-
-/// A triangle's slab bounds (hx0, hx1, hy0, hy1) of [Wang 2014 §4.2]'s per-item cull, as
-/// gears::pack_triangles computes them (gears/item_cull.hpp): a pixel whose own bounds miss them
-/// cannot be blocked by it. `v`: 3 light-space vertices, stride 4; `sgn`: the side's mirror.
-Vec4 slab_bounds(const float* v, float zmin, float sgn, const gears::FlatLight& light) {
-  constexpr float kRel = 1e-4f, kAbs = 1e-6f;  // item_cull.cpp's widening
-  if (!light.flat || !(zmin > 0.0f)) return Vec4(kInfinity, -kInfinity, kInfinity, -kInfinity);
-  float hx0 = -kInfinity, hx1 = kInfinity, hy0 = -kInfinity, hy1 = kInfinity;
-  for (int c = 0; c < 3; ++c) {
-    const float x = v[4 * c], y = v[4 * c + 1], z = sgn * v[4 * c + 2];
-    hx0 = std::max(hx0, (x - light.lx0) / z), hx1 = std::min(hx1, (x - light.lx1) / z);
-    hy0 = std::max(hy0, (y - light.ly0) / z), hy1 = std::min(hy1, (y - light.ly1) / z);
-  }
-  return Vec4(hx0 + kRel * std::abs(hx0) + kAbs, hx1 - kRel * std::abs(hx1) - kAbs,
-              hy0 + kRel * std::abs(hy0) + kAbs, hy1 - kRel * std::abs(hy1) - kAbs);
-}
-
-/// One side's occluders: 3 vec4 of vertices (the first's w: this side's nearest depth) and 6 vec4
-/// per triangle: alpha data, transmittance, the slab bounds, the plane test's TrianglePlane (its
-/// solid's index as the last float's bits).
-constexpr size_t kTriInfo = 24;  // floats of alpha and cull data per triangle
-struct SideTriangles {
-  std::vector<float> tris, alpha;
-};
-
-/// The occluders in order of this side's nearest depth (z mirrored by `side`), ties by id: the
-/// CPU's order [Wang 2014 §4.2, the prefix sum in triangle order], so each cell's list, a stable
-/// sort by cell of the pairs, is in depth order and a pixel's depth cut is a prefix of it. Each
-/// triangle also gets its slab bounds for the per-pixel cull (gears::pack_triangles, `flat`: this
-/// side's light).
-SideTriangles sort_by_depth(const std::vector<float>& tris, const std::vector<float>& alpha,
-                            int side, const gears::FlatLight& flat,
-                            const gears::TrianglePlane* planes, const uint32_t* solid) {
-  const size_t count = tris.size() / 12;
-  const float sgn = static_cast<float>(side);
-  std::vector<float> zmin(count);
-  for (size_t t = 0; t < count; ++t)
-    zmin[t] =
-        std::min(sgn * tris[12 * t + 2], std::min(sgn * tris[12 * t + 6], sgn * tris[12 * t + 10]));
-  std::vector<uint32_t> order(count);
-  for (size_t t = 0; t < count; ++t) order[t] = static_cast<uint32_t>(t);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](uint32_t a, uint32_t b) { return zmin[a] < zmin[b]; });
-  SideTriangles out;
-  out.tris.resize(tris.size());
-  out.alpha.resize(count * kTriInfo);
-  for (size_t r = 0; r < count; ++r) {
-    const size_t t = order[r];
-    std::copy_n(tris.begin() + 12 * t, 12, out.tris.begin() + 12 * r);
-    float* info = &out.alpha[kTriInfo * r];
-    std::copy_n(alpha.begin() + 12 * t, 12, info);
-    out.tris[12 * r + 3] = zmin[t];
-    const Vec4 slab = slab_bounds(&tris[12 * t], zmin[t], sgn, flat);
-    for (int i = 0; i < 4; ++i) info[12 + i] = slab[i];
-    // No plane data: a plane no sample is strictly on either side of.
-    const gears::TrianglePlane pl =
-        planes ? planes[t] : gears::TrianglePlane{0, 0, 0, 0, 0, -kInfinity, kInfinity, 0};
-    const float plane[8] = {
-        pl.nx, pl.ny,   pl.nz,   pl.d,
-        pl.n1, pl.lmin, pl.lmax, std::bit_cast<float>(solid ? solid[t] : gears::kNoSolid)};
-    std::copy_n(plane, 8, info + 16);
-  }
-  return out;
-}
-
-/// The shadow-casting triangles in light space (3 vec4 each) and 3 vec4 of alpha data each
-/// (texel offset, width, height, 1 = alpha-tested; uv0, uv1; uv2, transmittance), in the CPU's
-/// order: shadow-casting meshes in order, each one's triangles in order.
-struct Occluders {
-  std::vector<float> tris, alpha;
-  // 4 header words (the LUT's: table offset, angles, offsets, radius; 0: none), then the alpha
-  // textures (1 where the texel blocks) and the LUT's table.
-  std::vector<uint32_t> texels = std::vector<uint32_t>(4, 0);
-  std::vector<uint32_t> mesh, prim;  // each triangle's mesh and index in it
-  std::vector<uint8_t> opaque;
-  bool semi_opaque = false;  // some occluder has transmittance > 0
-  bool translucent = false;  // some occluder is semi-opaque or alpha-tested
-};
-
-Occluders gather_occluders(const Scene& scene, const gears::LightSpace& space) {
-  Occluders o;
-  std::vector<int> texel_offset(scene.textures.size(), -1);
-  for (const Mesh& mesh : scene.meshes) {
-    if (!mesh.casts_shadows) continue;
-    const Material& mat = scene.material_of(mesh);
-    o.semi_opaque |= mat.transmittance > 0.0f;
-    o.translucent |= mat.transmittance > 0.0f || mat.alpha_texture >= 0;
-    const Texture* tex = mat.alpha_texture >= 0 ? &scene.textures[mat.alpha_texture] : nullptr;
-    float header[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    if (tex) {
-      int& offset = texel_offset[mat.alpha_texture];
-      if (offset < 0) {
-        offset = static_cast<int>(o.texels.size());
-        for (int y = 0; y < tex->height; ++y)
-          for (int x = 0; x < tex->width; ++x)
-            o.texels.push_back(tex->channel(x, y, 0) >= kAlphaCutoff ? 1u : 0u);
-      }
-      header[0] = std::bit_cast<float>(static_cast<uint32_t>(offset));
-      header[1] = static_cast<float>(tex->width), header[2] = static_cast<float>(tex->height);
-      header[3] = 1.0f;
-    }
-    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-      for (int c = 0; c < 3; ++c) push4(o.tris, space.to_light(mesh.vertex(t, c)));
-      o.mesh.push_back(static_cast<uint32_t>(&mesh - scene.meshes.data()));
-      o.prim.push_back(static_cast<uint32_t>(t));
-      o.opaque.push_back(mat.is_opaque() ? 1 : 0);
-      o.alpha.insert(o.alpha.end(), header, header + 4);
-      Vec2 uv[3] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
-      if (tex && !mesh.uvs.empty())
-        for (int c = 0; c < 3; ++c) uv[c] = mesh.uvs[mesh.triangles[t].v[c]];
-      o.alpha.insert(o.alpha.end(), {uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y,
-                                     mat.transmittance, 0.0f});
-    }
-  }
-  return o;
-}
-
-/// The occluders as the CPU's TriangleSoup, for its plane and solid culls.
-gears::TriangleSoup soup_of(const Occluders& o) {
-  gears::TriangleSoup soup;
-  soup.resize(o.mesh.size());
-  for (size_t t = 0; t < o.mesh.size(); ++t) {
-    for (int c = 0; c < 3; ++c) {
-      soup.x[c][t] = o.tris[12 * t + 4 * c];
-      soup.y[c][t] = o.tris[12 * t + 4 * c + 1];
-      soup.z[c][t] = o.tris[12 * t + 4 * c + 2];
-    }
-    soup.mesh[t] = o.mesh[t], soup.prim[t] = o.prim[t], soup.opaque[t] = o.opaque[t];
-  }
-  return soup;
-}
-
-/// One side's cull data: the slab cull's light (for a flat light with shared samples, their box,
-/// as the CPU's pass), the side's pixels' own slab bounds (pix's fifth vec4), and the triangles
-/// in depth order with their slab bounds, planes (`soup`: none without the per-pixel culls) and
-/// solids.
-SideTriangles side_cull_data(const gears::GridCamera& cam, int side, bool shrink, Vec2 uv_lo,
-                             Vec2 uv_hi, const std::vector<Vec3>& p_light, std::vector<float>& pix,
-                             const Occluders& occ, const gears::TriangleSoup* soup,
-                             const gears::Solids& solids) {
-  gears::FlatLight flat = gears::flat_light(cam);
-  if (shrink) flat = gears::shrink_to_samples(flat, uv_lo, uv_hi);
-  for (size_t a = 0; a < p_light.size(); ++a) {
-    const Vec3& q = p_light[a];
-    if ((side > 0) != (q.z >= 0.0f)) continue;
-    const float z = static_cast<float>(side) * q.z;
-    const gears::ItemBounds b = gears::item_bounds(flat, &q.x, &q.y, &z, 1);
-    float* out = &pix[20 * a + 16];
-    out[0] = b.ix0, out[1] = b.ix1, out[2] = b.iy0, out[3] = b.iy1;
-  }
-  const UninitVector<gears::TrianglePlane> planes =
-      soup ? gears::triangle_planes(*soup, gears::plane_test_corners(flat, cam))
-           : UninitVector<gears::TrianglePlane>{};
-  return sort_by_depth(occ.tris, occ.alpha, side, flat, soup ? planes.data() : nullptr,
-                       solids.count() > 0 ? solids.of_triangle.data() : nullptr);
-}
-
-/// The frame's light and samples, as the CPU method plans its passes: row spans for the regular
-/// grid of shared samples (k ≤ 32), sample by sample otherwise (one sample at the light for a
-/// point light), the LUT [Wang 2014 §4.3] where sample positions are shared.
-struct Plan {
-  bool sphere = false, point = false, per_pixel = false, use_lut = false, use_rows = false;
-  int n = 0, k = 0, ns = 0;  // samples, grid side, samples the rasterizer tests
-  uint32_t words = 0;        // 32-bit mask words per pixel of the per-sample rasterizer
-  const Texture* emission = nullptr;
-};
-Plan plan_of(const ShadowContext& ctx, bool lut) {
-  Plan p;
-  const Light& light = ctx.light;
-  p.n = ctx.samples.count();
-  p.k = ctx.samples.k();
-  if (p.k > 64) throw Error("gears on vulkan: at most 64×64 light samples (--samples ≤ 64)");
-  p.sphere = light.shape == LightShape::sphere;
-  p.point = light.shape == LightShape::point;
-  p.per_pixel = ctx.samples.per_pixel();
-  p.use_lut = lut && !p.per_pixel && !p.point;
-  p.use_rows = ctx.samples.spec().pattern == SamplePattern::grid && !p.per_pixel && p.k <= 32 &&
-               !p.point && !p.use_lut;
-  p.ns = p.point ? 1 : p.n;
-  p.words = static_cast<uint32_t>((p.ns + 31) / 32);
-  p.emission = light.is_textured() ? &ctx.scene.textures[light.emission_texture] : nullptr;
-  return p;
-}
-
-/// Per active pixel: its shadow origin in light space, and the 20 floats the shaders read — the
-/// origin, the light's corner and edges from it (the sphere's silhouette disk seen from the
-/// pixel), and its slab bounds (set per side).
-void pixel_data(const ShadowContext& ctx, const gears::LightSpace& space, const Plan& plan,
-                const std::vector<uint32_t>& active, std::vector<Vec3>& p_light,
-                std::vector<float>& pix) {
-  const GBuffer& g = ctx.gbuffer;
-  p_light.resize(active.size());
-  pix.clear();
-  pix.reserve(active.size() * 20);
-  for (size_t a = 0; a < active.size(); ++a) {
-    const Vec3 p = space.to_light(g.shadow_origin(active[a]));
-    p_light[a] = p;
-    Vec3 w = -p, eu(1.0f, 0.0f, 0.0f), ev(0.0f, 1.0f, 0.0f);
-    if (plan.point) {
-      eu = ev = Vec3(0.0f);
-    } else if (plan.sphere) {
-      // The sphere's silhouette disk as seen from this pixel (scene/light.hpp).
-      const LightFrame f = light_frame(ctx.light, g.shadow_origin(active[a]));
-      auto dir = [&](const Vec3& d) {
-        return Vec3(glm::dot(space.inv_u, d), glm::dot(space.inv_v, d), glm::dot(space.inv_n, d));
-      };
-      w = space.to_light(f.corner) - p;
-      eu = dir(f.edge_u);
-      ev = dir(f.edge_v);
-    }
-    push4(pix, p), push4(pix, w), push4(pix, eu), push4(pix, ev);
-    push4(pix, Vec3(0.0f));  // the pixel's slab bounds, set per side
-  }
-}
-
-/// The light samples as the shaders read them: the shared positions and their box, the emitting
-/// ones (per row for the row rasterizer, as bits of 64-bit words for the weighting), and the
-/// per-sample rasterizer's positions and emitting bits — shared, or per pixel for per-pixel
-/// patterns and a point light's one sample, as the CPU's work items set them.
-struct SampleSetup {
-  std::vector<Vec2> shared;
-  Vec2 uv_lo{0.0f}, uv_hi{1.0f};  // per-pixel samples: the unit square holds them all
-  std::vector<uint32_t> emit_rows;
-  std::vector<uint64_t> emit_words;
-  int emit_count = 0;
-  std::vector<float> sample_uv;
-  std::vector<uint32_t> emit_bits;
-};
-SampleSetup sample_setup(const ShadowContext& ctx, const Plan& plan, const LightFrame& frame0,
-                         const std::vector<uint32_t>& active, int words64) {
-  const GBuffer& g = ctx.gbuffer;
-  const int n = plan.n, k = plan.k;
-  SampleSetup out;
-  out.shared.resize(n);
-  ctx.samples.pixel_samples(0, 0, out.shared);
-  if (!plan.per_pixel) {
-    out.uv_lo = Vec2(kInfinity), out.uv_hi = Vec2(-kInfinity);
-    for (const Vec2& s : out.shared)
-      out.uv_lo = glm::min(out.uv_lo, s), out.uv_hi = glm::max(out.uv_hi, s);
-  }
-  if (plan.point) out.uv_lo = out.uv_hi = Vec2(0.0f);
-  out.emit_rows.assign(k, 0);
-  out.emit_words.assign(words64, 0);
-  for (int s = 0; s < n; ++s)
-    if (frame0.emits(out.shared[s])) {
-      if (plan.use_rows) out.emit_rows[s / k] |= 1u << (s % k);
-      out.emit_words[s >> 6] |= uint64_t{1} << (s & 63);
-      ++out.emit_count;
-    }
-  if (plan.use_rows) {
-    for (const Vec2& s : out.shared) out.sample_uv.insert(out.sample_uv.end(), {s.x, s.y});
-    return out;
-  }
-  const bool own = plan.per_pixel || plan.point;
-  std::vector<Vec2> uvs(n);
-  for (size_t a = 0; a < (own ? active.size() : 1); ++a) {
-    const uint32_t pixel = own ? active[a] : 0;
-    if (plan.per_pixel)
-      ctx.samples.pixel_samples(static_cast<int>(pixel % g.width),
-                                static_cast<int>(pixel / g.width), uvs);
-    else
-      uvs = out.shared;
-    const LightFrame frame = plan.sphere ? light_frame(ctx.light, g.shadow_origin(pixel)) : frame0;
-    std::vector<uint32_t> bits(plan.words, 0);
-    for (int s = 0; s < plan.ns; ++s) {
-      out.sample_uv.insert(out.sample_uv.end(),
-                           {plan.point ? 0.0f : uvs[s].x, plan.point ? 0.0f : uvs[s].y});
-      const bool emits = plan.point || (own ? frame.emits(uvs[s]) : frame0.emits(uvs[s]));
-      if (emits) bits[s >> 5] |= 1u << (s & 31);
-    }
-    out.emit_bits.insert(out.emit_bits.end(), bits.begin(), bits.end());
-  }
-  return out;
-}
-
-/// The CPU's EdgeLut for the shared samples, appended to `texels` after the alpha textures (its
-/// header in texels[0..3]): 64-bit words as their two 32-bit halves, the same bits — 32-bit word w
-/// holds samples 32·w … 32·w + 31 as the shader's masks.
-void append_lut(std::span<const Vec2> shared, int resolution, std::vector<uint32_t>& texels) {
-  const gears::EdgeLut lut(shared, resolution, resolution);
-  texels[0] = static_cast<uint32_t>(texels.size());
-  texels[1] = static_cast<uint32_t>(lut.angles());
-  texels[2] = static_cast<uint32_t>(lut.offsets());
-  texels[3] = std::bit_cast<uint32_t>(lut.radius());
-  for (uint64_t w : lut.table())
-    texels.insert(texels.end(), {static_cast<uint32_t>(w), static_cast<uint32_t>(w >> 32)});
-}
-
-/// The GPU's masks (`rows`: row spans or 32-bit words per pixel, then the semi-opaque per-sample
-/// transmittances) into `masks`, and V weighted exactly as the CPU gears weights it.
-void read_back(const ShadowContext& ctx, const Plan& plan, const SampleSetup& ss,
-               const std::vector<uint32_t>& active, const std::vector<uint32_t>& rows,
-               size_t mask_words, bool semi_opaque, SampleMasks& masks, Visibility& vis) {
-  const GBuffer& g = ctx.gbuffer;
-  const int n = plan.n, k = plan.k;
-  std::vector<Vec2> uvs(n);
-  std::vector<float> sample_vis(n);
-  for (size_t a = 0; a < active.size(); ++a) {
-    const uint32_t pixel = active[a];
-    uint64_t* m = masks.pixel(pixel);
-    if (plan.use_rows) {  // row j holds samples j·k … j·k + k − 1
-      for (int j = 0; j < k; ++j) {
-        const uint64_t bits = rows[a * k + j];
-        const int p = j * k;
-        m[p >> 6] |= bits << (p & 63);
-        if ((p & 63) + k > 64) m[(p >> 6) + 1] |= bits >> (64 - (p & 63));
-      }
-    } else if (plan.point) {  // the light's one sample stands for all of them
-      if (rows[a] & 1u)
-        for (int s = 0; s < n; ++s) m[s >> 6] |= uint64_t{1} << (s & 63);
-    } else {
-      for (uint32_t w = 0; w < plan.words; ++w)
-        m[w >> 1] |= uint64_t{rows[a * plan.words + w]} << (32 * (w & 1));
-    }
-    if (!plan.emission && !plan.per_pixel && !plan.point && !semi_opaque) {
-      int blocked = 0;
-      for (int i = 0; i < masks.words_per_pixel(); ++i)
-        blocked += std::popcount(m[i] & ss.emit_words[i]);
-      SampleWeights w;
-      w.visible = Vec3(static_cast<float>(ss.emit_count - blocked));
-      w.total = Vec3(static_cast<float>(ss.emit_count));
-      vis.lit[pixel] = w.visible_fraction();
-      continue;
-    }
-    const LightFrame frame = light_frame(ctx.light, g.shadow_origin(pixel));
-    ctx.samples.pixel_samples(static_cast<int>(pixel % g.width), static_cast<int>(pixel / g.width),
-                              uvs);
-    // Unblocked samples: the product of the semi-opaque layers they cross (a point light's one
-    // sample standing for all), as the CPU shades them.
-    const uint32_t* trans = semi_opaque ? rows.data() + mask_words + a * plan.ns : nullptr;
-    for (int s = 0; s < n; ++s)
-      sample_vis[s] = masks.blocked(pixel, s)
-                          ? 0.0f
-                          : (trans ? std::bit_cast<float>(trans[plan.point ? 0 : s]) : 1.0f);
-    const SampleWeights w =
-        accumulate_sample_weights(frame, plan.emission, ctx.light.radiance, uvs, sample_vis);
-    vis.lit[pixel] = w.visible_fraction();
-    if (plan.emission) vis.lit_rgb->operator[](pixel) = w.visible_fraction_rgb();
-  }
-}
-
 /// What the rasterization passes read and write (device addresses) and how they walk.
 struct RasterInputs {
   VkDeviceAddress pix, tris, cell, begin, end, vals, rows, emit, samples, alpha, texels;
@@ -520,15 +175,154 @@ void record_rasterization(Programs& programs, CommandList& raster, const Plan& p
   }
 }
 
-/// The light's corners in light space, for the extrusion (a sphere's bounding cube, z in units of
-/// the light-space axis: ±r).
-std::vector<Vec3> light_corners(const Plan& plan, float r) {
-  if (plan.point) return {Vec3(0.0f)};
-  std::vector<Vec3> corners;
-  for (float z : plan.sphere ? std::vector<float>{-r, r} : std::vector<float>{0.0f})
-    for (int c = 0; c < 4; ++c)
-      corners.emplace_back(static_cast<float>(c & 1), static_cast<float>(c >> 1), z);
-  return corners;
+/// The device buffers both sides share: emitting samples, alpha texels, sample positions, each
+/// pixel's cell, the masks (then, for semi-opaque occluders, each pixel's per-sample
+/// transmittances, in the same buffer since the shaders' push constants are full), and the
+/// per-triangle scratch of the count and pair passes.
+struct FrameBuffers {
+  Buffer emit, texels, samples, cell, rows, counts, rects, zmin;
+  Buffer totals;  // last count, last offset, Σcounts/1024
+  size_t mask_words = 0, trans_words = 0;
+};
+
+FrameBuffers upload_frame(VulkanContext& vk, const Plan& plan, const HostFrame& h,
+                          StageTimes& times) {
+  ScopedStage stage(times, "wall_upload");
+  const uint32_t na = static_cast<uint32_t>(h.active.size());
+  const uint32_t tris = std::max<uint32_t>(h.tri_count, 1);
+  FrameBuffers b;
+  b.emit = plan.use_rows ? vk.upload(h.ss.emit_rows) : vk.upload(h.ss.emit_bits);
+  b.texels = vk.upload(h.occ.texels);
+  b.samples = vk.upload(h.ss.sample_uv);
+  b.cell = Buffer(vk, std::max<size_t>(na, 1) * 4, Memory::device);
+  const size_t words_per_pixel = plan.use_rows ? static_cast<size_t>(plan.k) : plan.words;
+  b.mask_words = size_t{na} * words_per_pixel;
+  b.trans_words = h.occ.semi_opaque ? size_t{na} * static_cast<size_t>(plan.ns) : 0;
+  b.rows = Buffer(vk, std::max<size_t>(b.mask_words + b.trans_words, 1) * 4, Memory::device);
+  b.counts = Buffer(vk, size_t{tris} * 4, Memory::device);
+  b.rects = Buffer(vk, size_t{tris} * 16, Memory::device);
+  b.zmin = Buffer(vk, size_t{tris} * 4, Memory::device);
+  b.totals = Buffer(vk, 16, Memory::device);
+  vk.submit_now([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, b.rows.handle(), 0, VK_WHOLE_SIZE, 0);
+    if (b.trans_words > 0)
+      vkCmdFillBuffer(cmd, b.rows.handle(), b.mask_words * 4, b.trans_words * 4,
+                      std::bit_cast<uint32_t>(1.0f));
+  });
+  return b;
+}
+
+/// The grid camera as shaders/gears.glsl reads it.
+GridCameraGpu camera_gpu(const gears::GridCamera& cam, int side) {
+  GridCameraGpu cg{};
+  cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
+  cg.plane_z = cam.plane_z;
+  cg.grid_lo[0] = cam.grid_lo.x, cg.grid_lo[1] = cam.grid_lo.y;
+  cg.cell_scale[0] = cam.cell_scale.x, cg.cell_scale[1] = cam.cell_scale.y;
+  cg.res_x = cam.res_x, cg.res_y = cam.res_y;
+  cg.far_z = cam.far_z, cg.light_max_z = cam.light_max_z, cg.light_min_z = cam.light_min_z;
+  cg.corner_count = static_cast<int32_t>(cam.light_corners.size());
+  cg.side = static_cast<float>(side);
+  for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
+    for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
+  return cg;
+}
+
+/// One side's device inputs: its grid camera, the pixels with this side's slab bounds, the
+/// triangles in this side's depth order with their cull data, and each cell's deepest sample.
+struct SideInputs {
+  gears::GridCamera cam;
+  Buffer cam_buf, pix_buf, tri_buf, alpha_buf, cell_max_z;
+  uint32_t cells = 0;
+};
+
+/// Submission 1: each pixel's cell, each triangle's cell count and their exclusive prefix sum.
+/// Returns the pair count, read back to size the pair buffers.
+uint32_t count_pairs(VulkanContext& vk, Programs& programs, const FrameBuffers& fb,
+                     const SideInputs& si, uint32_t na, uint32_t tri_count,
+                     std::deque<Buffer>& scratch, StageTimes& times) {
+  CommandList cl(vk);
+  cl.fill(fb.totals, 0);
+  cl.fill(si.cell_max_z, 0);
+  cl.barrier();
+  cl.dispatch(programs.get(Shader::gears_cells),
+              CellsPush{si.cam_buf.address(), si.pix_buf.address(), fb.cell.address(),
+                        si.cell_max_z.address(), na},
+              na);
+  cl.barrier();
+  cl.mark("pixel_cells");
+  cl.dispatch(
+      programs.get(Shader::gears_count),
+      CountPush{si.cam_buf.address(), si.tri_buf.address(), fb.counts.address(), fb.rects.address(),
+                fb.totals.address() + 8, si.cell_max_z.address(), fb.zmin.address(), tri_count},
+      tri_count);
+  cl.barrier();
+  cl.copy(fb.counts, fb.totals, 4, size_t{tri_count - 1} * 4, 0);
+  cl.barrier();
+  cl.mark("triangle_count");
+  record_exclusive_scan(programs, cl, fb.counts, tri_count, scratch);
+  cl.copy(fb.counts, fb.totals, 4, size_t{tri_count - 1} * 4, 4);
+  cl.barrier();
+  cl.mark("prefix_sum");
+  cl.submit(&times);
+  const std::vector<uint32_t> tot = vk.download<uint32_t>(fb.totals, 3);
+  if (uint64_t{tot[2]} * 1024 >= (uint64_t{1} << 31))
+    throw Error("gears on vulkan: more than 2^31 triangle-cell pairs (lower gears.grid)");
+  return tot[0] + tot[1];
+}
+
+/// Each cell's list of triangles: the (cell, triangle) pairs radix sorted by cell (stable, so
+/// each list keeps the depth order), each cell's [begin, end) and the longest list's length.
+struct CellLists {
+  Buffer keys, vals, keys_tmp, vals_tmp, begin, end;
+  bool in_place = true;  // the sorted pairs are in keys/vals, else in keys_tmp/vals_tmp
+  uint32_t longest = 0;
+  const Buffer& sorted_vals() const { return in_place ? vals : vals_tmp; }
+};
+
+/// Submission 2: the pairs, their sort by cell and the per-cell ranges [Wang 2014 §4.2]; the
+/// longest list is read back to size the rasterization's chunks.
+CellLists sort_pairs(VulkanContext& vk, Programs& programs, const FrameBuffers& fb,
+                     const SideInputs& si, uint32_t pairs, uint32_t tri_count,
+                     std::deque<Buffer>& scratch, StageTimes& times) {
+  CellLists lists;
+  lists.keys = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.vals = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.keys_tmp = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.vals_tmp = Buffer(vk, size_t{pairs} * 4, Memory::device);
+  lists.begin = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+  lists.end = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+  CommandList cl(vk);
+  cl.dispatch(programs.get(Shader::gears_write),
+              WritePush{fb.rects.address(), fb.counts.address(), lists.keys.address(),
+                        lists.vals.address(), si.cell_max_z.address(), fb.zmin.address(), tri_count,
+                        static_cast<uint32_t>(si.cam.res_x), si.cam.light_max_z},
+              tri_count);
+  cl.barrier();
+  cl.mark("pair_write");
+  const int key_bits = std::max(1, static_cast<int>(std::bit_width(si.cells - 1)));
+  lists.in_place = record_radix_sort(programs, cl, lists.keys, lists.vals, lists.keys_tmp,
+                                     lists.vals_tmp, pairs, key_bits, scratch);
+  const Buffer& sorted_keys = lists.in_place ? lists.keys : lists.keys_tmp;
+  cl.mark("radix_sort");
+  cl.fill(lists.begin, 0);
+  cl.fill(lists.end, 0);
+  cl.barrier();
+  cl.dispatch(programs.get(Shader::gears_ranges),
+              RangesPush{sorted_keys.address(), lists.begin.address(), lists.end.address(), pairs},
+              pairs);
+  cl.barrier();
+  cl.fill(fb.totals, 0);
+  cl.barrier();
+  cl.dispatch(
+      programs.get(Shader::gears_longest),
+      LongestPush{lists.begin.address(), lists.end.address(), fb.totals.address(), si.cells},
+      si.cells);
+  cl.barrier();
+  cl.mark("cell_ranges");
+  cl.submit(&times);
+  lists.longest = vk.download<uint32_t>(fb.totals, 1)[0];
+  return lists;
 }
 
 class GearsVk final : public ShadowMethod {
@@ -552,11 +346,8 @@ class GearsVk final : public ShadowMethod {
   }
 
   Visibility compute(const ShadowContext& ctx) override {
-    using namespace penumbra::gears;
     VulkanContext& vk = backend_.context();
-    Programs& programs = backend_.programs();
     const GBuffer& g = ctx.gbuffer;
-    const Light& light = ctx.light;
     const Plan plan = plan_of(ctx, lut_);
     // A triangle's count and pair passes loop over its cells: up to grid² iterations, which
     // llvmpipe would cut short (and drop pairs) past its 65535-iteration limit.
@@ -564,232 +355,136 @@ class GearsVk final : public ShadowMethod {
       throw Error("gears on vulkan: gears.grid " + std::to_string(grid_) + " exceeds " +
                   std::to_string(kMaxCpuDeviceGrid) + " on " + vk.device_name() +
                   " (a CPU device's shader loops are limited); lower it or use a GPU");
-    const bool sphere = plan.sphere, point = plan.point, per_pixel = plan.per_pixel;
-    const bool use_rows = plan.use_rows;
-    const int n = plan.n, k = plan.k, ns = plan.ns;
-    const uint32_t words = plan.words;
-    const Texture* emission = plan.emission;
 
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
-    if (emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
-    SampleMasks masks(g.width, g.height, n);
+    if (plan.emission) vis.lit_rgb = Image<Vec3>(g.width, g.height, Vec3(1.0f));
+    SampleMasks masks(g.width, g.height, plan.n);
+    HostFrame h = host_setup(ctx, plan, masks.words_per_pixel(), vis.times);
+    const FrameBuffers fb = upload_frame(vk, plan, h, vis.times);
 
-    // ---- Host setup: light space, per-pixel light frames, occluders (as the CPU gears).
-    auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint32_t> active;
-    for (size_t i = 0; i < g.pixel_count(); ++i)
-      if (ctx.receivers[i] == kActive) active.push_back(static_cast<uint32_t>(i));
-    const LightFrame frame0 = light_frame(light, light.center + Vec3(0.0f, -1.0f, 0.0f));
-    Vec3 toward = frame0.emit_normal;
-    if (sphere || point) {
-      Bounds3 b;
-      for (uint32_t i : active) b.extend(g.shadow_origin(i));
-      toward = b.empty() ? Vec3(0.0f, -1.0f, 0.0f) : b.center() - light.center;
-    }
-    const LightSpace space = make_light_space(light, frame0, toward, +1);
-    std::vector<Vec3> p_light;
-    std::vector<float> pix;
-    pixel_data(ctx, space, plan, active, p_light, pix);
-    Occluders occ = gather_occluders(ctx.scene, space);
-    const std::vector<float>& tris = occ.tris;
-    std::vector<uint32_t>& texels = occ.texels;
-    const bool semi_opaque = occ.semi_opaque, translucent = occ.translucent;
-    const uint32_t tri_count = static_cast<uint32_t>(tris.size() / 12);
-    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
-    // certified outside of (pix: the w of its w and eu vectors, as two 32-bit halves).
-    const gears::TriangleSoup soup = pixel_cull_ ? soup_of(occ) : gears::TriangleSoup{};
-    gears::Solids solids;
-    if (pixel_cull_ && solid_cull_) {
-      if (!prepared_) prepare(ctx.scene);
-      solids = find_solids(components_, soup);
-      for (size_t a = 0; a < active.size(); ++a) {
-        const uint64_t outside = solids.outside(p_light[a]);
-        pix[20 * a + 7] = std::bit_cast<float>(static_cast<uint32_t>(outside));
-        pix[20 * a + 11] = std::bit_cast<float>(static_cast<uint32_t>(outside >> 32));
-      }
-    }
-    const float r = sphere ? light.radius / glm::length(space.axis_n) : 0.0f;  // in z units
-    const std::vector<Vec3> corners = light_corners(plan, r);
-    const SampleSetup ss = sample_setup(ctx, plan, frame0, active, masks.words_per_pixel());
-    const Vec2 uv_lo = ss.uv_lo, uv_hi = ss.uv_hi;
-    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
-    // occluders keep the list's order, so that their products are formed in the CPU's order.
-    const bool deepest_first = deepest_first_ && pixel_cull_ && !semi_opaque;
-    if (plan.use_lut) append_lut(ss.shared, lut_resolution_, texels);
-    vis.times.add("light_space_setup", elapsed_ms(t0));
-
-    t0 = std::chrono::steady_clock::now();
-    const uint32_t na = static_cast<uint32_t>(active.size());
-    const Buffer emit_buf = use_rows ? vk.upload(ss.emit_rows) : vk.upload(ss.emit_bits);
-    const Buffer texel_buf = vk.upload(texels);
-    const Buffer sample_buf = vk.upload(ss.sample_uv);
-    const Buffer cell_buf(vk, std::max<size_t>(na, 1) * 4, Memory::device);
-    const size_t words_per_pixel = use_rows ? static_cast<size_t>(k) : words;
-    // Semi-opaque occluders: each pixel's per-sample transmittances (floats, 1 at first) after
-    // the masks, in the same buffer (the shaders' push constants are full).
-    const size_t mask_words = size_t{na} * words_per_pixel;
-    const size_t trans_words = semi_opaque ? size_t{na} * static_cast<size_t>(ns) : 0;
-    const Buffer rows_buf(vk, std::max<size_t>(mask_words + trans_words, 1) * 4, Memory::device);
-    const Buffer counts(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
-    const Buffer rects(vk, std::max<uint32_t>(tri_count, 1) * 16, Memory::device);
-    const Buffer zmin(vk, std::max<uint32_t>(tri_count, 1) * 4, Memory::device);
-    const Buffer totals(vk, 16, Memory::device);  // last count, last offset, Σcounts/1024
-    vk.submit_now([&](VkCommandBuffer cmd) {
-      vkCmdFillBuffer(cmd, rows_buf.handle(), 0, VK_WHOLE_SIZE, 0);
-      if (trans_words > 0)
-        vkCmdFillBuffer(cmd, rows_buf.handle(), mask_words * 4, trans_words * 4,
-                        std::bit_cast<uint32_t>(1.0f));
-    });
-    vis.times.add("wall_upload", elapsed_ms(t0));
-
-    double wall_gpu = 0.0;
+    // Both sides' submissions are one stage, added after both (after their GPU stages).
+    StageTimes wall;
     uint64_t total_pairs = 0;
-    for (int side : {+1, -1}) {
-      std::vector<Vec3> pts;
-      for (const Vec3& q : p_light)
-        if ((side > 0) == (q.z >= 0.0f)) pts.emplace_back(q.x, q.y, side * q.z);
-      if (pts.empty() || tri_count == 0) continue;
-      t0 = std::chrono::steady_clock::now();
-      const LightSpace side_space = make_light_space(light, frame0, toward, side);
-      const GridCamera cam = make_grid_camera(side_space, corners, r, pts, eye_distance_,
-                                              grid_resolution_vk(grid_, g.width, g.height));
-      GridCameraGpu cg{};
-      cg.eye[0] = cam.eye.x, cg.eye[1] = cam.eye.y, cg.eye[2] = cam.eye.z;
-      cg.plane_z = cam.plane_z;
-      cg.grid_lo[0] = cam.grid_lo.x, cg.grid_lo[1] = cam.grid_lo.y;
-      cg.cell_scale[0] = cam.cell_scale.x, cg.cell_scale[1] = cam.cell_scale.y;
-      cg.res_x = cam.res_x, cg.res_y = cam.res_y;
-      cg.far_z = cam.far_z, cg.light_max_z = cam.light_max_z, cg.light_min_z = cam.light_min_z;
-      cg.corner_count = static_cast<int32_t>(cam.light_corners.size());
-      cg.side = static_cast<float>(side);
-      for (size_t c = 0; c < cam.light_corners.size() && c < 8; ++c)
-        for (int d = 0; d < 3; ++d) cg.corners[c][d] = cam.light_corners[c][d];
-      const Buffer cam_buf = vk.upload(&cg, sizeof(cg));
-      const SideTriangles sorted =
-          side_cull_data(cam, side, !per_pixel && !point && !sphere, uv_lo, uv_hi, p_light, pix,
-                         occ, pixel_cull_ ? &soup : nullptr, solids);
-      const Buffer pix_buf = vk.upload(pix);
-      const Buffer tri_buf = vk.upload(sorted.tris);
-      const Buffer alpha_buf = vk.upload(sorted.alpha);
-      const uint32_t cells = static_cast<uint32_t>(cam.cell_count());
-      const Buffer cell_max_z(vk, size_t{cells} * 4, Memory::device);
-      vis.times.add("grid_camera", elapsed_ms(t0));
+    for (int side : {+1, -1}) total_pairs += run_side(vk, ctx, plan, h, fb, side, vis.times, wall);
+    vis.times.add("wall_gpu", wall.get("wall_gpu"));
 
-      // Submission 1: cells, counts, prefix sum.
-      t0 = std::chrono::steady_clock::now();
-      std::deque<Buffer> scratch;
-      {
-        CommandList cl(vk);
-        cl.fill(totals, 0);
-        cl.fill(cell_max_z, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_cells),
-                    CellsPush{cam_buf.address(), pix_buf.address(), cell_buf.address(),
-                              cell_max_z.address(), na},
-                    na);
-        cl.barrier();
-        cl.mark("pixel_cells");
-        cl.dispatch(
-            programs.get(Shader::gears_count),
-            CountPush{cam_buf.address(), tri_buf.address(), counts.address(), rects.address(),
-                      totals.address() + 8, cell_max_z.address(), zmin.address(), tri_count},
-            tri_count);
-        cl.barrier();
-        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 0);
-        cl.barrier();
-        cl.mark("triangle_count");
-        record_exclusive_scan(programs, cl, counts, tri_count, scratch);
-        cl.copy(counts, totals, 4, size_t{tri_count - 1} * 4, 4);
-        cl.barrier();
-        cl.mark("prefix_sum");
-        cl.submit(&vis.times);
-      }
-      const std::vector<uint32_t> tot = vk.download<uint32_t>(totals, 3);
-      if (uint64_t{tot[2]} * 1024 >= (uint64_t{1} << 31))
-        throw Error("gears on vulkan: more than 2^31 triangle-cell pairs (lower gears.grid)");
-      const uint32_t pairs = tot[0] + tot[1];
-      total_pairs += pairs;
-
-      // Submission 2: pairs, sort by cell, per-cell ranges, rasterization.
-      if (pairs > 0) {
-        const Buffer keys(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer vals(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer keys_tmp(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer vals_tmp(vk, size_t{pairs} * 4, Memory::device);
-        const Buffer begin(vk, size_t{cells} * 4, Memory::device);
-        const Buffer end(vk, size_t{cells} * 4, Memory::device);
-        CommandList cl(vk);
-        cl.dispatch(programs.get(Shader::gears_write),
-                    WritePush{rects.address(), counts.address(), keys.address(), vals.address(),
-                              cell_max_z.address(), zmin.address(), tri_count,
-                              static_cast<uint32_t>(cam.res_x), cam.light_max_z},
-                    tri_count);
-        cl.barrier();
-        cl.mark("pair_write");
-        const int key_bits = std::max(1, static_cast<int>(std::bit_width(cells - 1)));
-        const bool in_place = record_radix_sort(programs, cl, keys, vals, keys_tmp, vals_tmp, pairs,
-                                                key_bits, scratch);
-        const Buffer& sorted_keys = in_place ? keys : keys_tmp;
-        const Buffer& sorted_vals = in_place ? vals : vals_tmp;
-        cl.mark("radix_sort");
-        cl.fill(begin, 0);
-        cl.fill(end, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_ranges),
-                    RangesPush{sorted_keys.address(), begin.address(), end.address(), pairs},
-                    pairs);
-        cl.barrier();
-        cl.fill(totals, 0);
-        cl.barrier();
-        cl.dispatch(programs.get(Shader::gears_longest),
-                    LongestPush{begin.address(), end.address(), totals.address(), cells}, cells);
-        cl.barrier();
-        cl.mark("cell_ranges");
-        cl.submit(&vis.times);
-        const uint32_t longest = vk.download<uint32_t>(totals, 1)[0];
-
-        // Submission 3: the rasterization, in chunks of each cell's list.
-        CommandList raster(vk);
-        const RasterInputs in{pix_buf.address(),
-                              tri_buf.address(),
-                              cell_buf.address(),
-                              begin.address(),
-                              end.address(),
-                              sorted_vals.address(),
-                              rows_buf.address(),
-                              emit_buf.address(),
-                              sample_buf.address(),
-                              alpha_buf.address(),
-                              texel_buf.address(),
-                              na,
-                              uv_lo,
-                              uv_hi,
-                              deepest_first,
-                              pixel_cull_,
-                              pixel_cull_ && hidden_cull_,
-                              translucent};
-        record_rasterization(programs, raster, plan, in, longest);
-        raster.mark("rasterize");
-        raster.submit(&vis.times);
-      }
-      wall_gpu += elapsed_ms(t0);
+    {  // Readback: the masks, and V weighted as on the CPU.
+      ScopedStage stage(vis.times, "wall_readback");
+      const std::vector<uint32_t> rows =
+          vk.download<uint32_t>(fb.rows, fb.mask_words + fb.trans_words);
+      read_back(ctx, plan, h.ss, h.active, rows, fb.mask_words, h.occ.semi_opaque, masks, vis);
     }
-    vis.times.add("wall_gpu", wall_gpu);
-
-    // ---- Readback: the masks, and V weighted as on the CPU.
-    t0 = std::chrono::steady_clock::now();
-    const std::vector<uint32_t> rows = vk.download<uint32_t>(rows_buf, mask_words + trans_words);
-    read_back(ctx, plan, ss, active, rows, mask_words, semi_opaque, masks, vis);
-    vis.times.add("wall_readback", elapsed_ms(t0));
-    vis.counters["triangles"] = tri_count;
-    vis.counters["active_pixels"] = na;
+    vis.counters["triangles"] = h.tri_count;
+    vis.counters["active_pixels"] = static_cast<double>(h.active.size());
     vis.counters["pairs"] = static_cast<double>(total_pairs);
     if (ctx.want_masks) vis.masks = std::move(masks);
     return vis;
   }
 
  private:
+  /// Host setup, as the CPU gears: light space, per-pixel data, the occluders with the per-pixel
+  /// culls' soup and solids, and the light samples (with the LUT [Wang 2014 §4.3]).
+  HostFrame host_setup(const ShadowContext& ctx, const Plan& plan, int words64, StageTimes& times) {
+    ScopedStage stage(times, "light_space_setup");
+    HostFrame h;
+    active_pixels_and_toward(ctx, plan, h);
+    const gears::LightSpace space = gears::make_light_space(ctx.light, h.frame0, h.toward, +1);
+    pixel_data(ctx, space, plan, h.active, h.p_light, h.pix);
+    h.occ = gather_occluders(ctx.scene, space);
+    h.tri_count = static_cast<uint32_t>(h.occ.tris.size() / 12);
+    // The CPU's separating-plane and solid culls need its soup, and the solids each pixel is
+    // certified outside of.
+    if (pixel_cull_) h.soup = soup_of(h.occ);
+    if (pixel_cull_ && solid_cull_) {
+      if (!prepared_) prepare(ctx.scene);
+      h.solids = gears::find_solids(components_, h.soup);
+      mark_outside_solids(h);
+    }
+    h.r = plan.sphere ? ctx.light.radius / glm::length(space.axis_n) : 0.0f;
+    h.corners = light_corners(plan, h.r);
+    h.ss = sample_setup(ctx, plan, h.frame0, h.active, words64);
+    if (plan.use_lut) append_lut(h.ss.shared, lut_resolution_, h.occ.texels);
+    return h;
+  }
+
+  /// One side of the light plane (+1: the pixels in front of it; −1: those behind, z mirrored):
+  /// its grid camera and inputs, then the three submissions. Returns its pair count; the
+  /// submissions' wall time goes to `wall`.
+  uint32_t run_side(VulkanContext& vk, const ShadowContext& ctx, const Plan& plan, HostFrame& h,
+                    const FrameBuffers& fb, int side, StageTimes& times, StageTimes& wall) const {
+    std::vector<Vec3> pts;
+    for (const Vec3& q : h.p_light)
+      if ((side > 0) == (q.z >= 0.0f)) pts.emplace_back(q.x, q.y, side * q.z);
+    if (pts.empty() || h.tri_count == 0) return 0;
+    const SideInputs si = side_inputs(vk, ctx, plan, h, side, pts, times);
+    ScopedStage gpu(wall, "wall_gpu");
+    Programs& programs = backend_.programs();
+    const uint32_t na = static_cast<uint32_t>(h.active.size());
+    std::deque<Buffer> scratch;
+    const uint32_t pairs = count_pairs(vk, programs, fb, si, na, h.tri_count, scratch, times);
+    if (pairs > 0) {
+      const CellLists lists = sort_pairs(vk, programs, fb, si, pairs, h.tri_count, scratch, times);
+      rasterize(vk, programs, plan, h, fb, si, lists, times);
+    }
+    return pairs;
+  }
+
+  /// One side's grid camera over `pts` (its pixels, z mirrored) and its device inputs; h.pix's
+  /// slab bounds are this side's from here on.
+  SideInputs side_inputs(VulkanContext& vk, const ShadowContext& ctx, const Plan& plan,
+                         HostFrame& h, int side, const std::vector<Vec3>& pts,
+                         StageTimes& times) const {
+    ScopedStage stage(times, "grid_camera");
+    SideInputs si;
+    const gears::LightSpace side_space =
+        gears::make_light_space(ctx.light, h.frame0, h.toward, side);
+    si.cam =
+        gears::make_grid_camera(side_space, h.corners, h.r, pts, eye_distance_,
+                                grid_resolution_vk(grid_, ctx.gbuffer.width, ctx.gbuffer.height));
+    const GridCameraGpu cg = camera_gpu(si.cam, side);
+    si.cam_buf = vk.upload(&cg, sizeof(cg));
+    const SideTriangles sorted = side_cull_data(
+        si.cam, side, !plan.per_pixel && !plan.point && !plan.sphere, h.ss.uv_lo, h.ss.uv_hi,
+        h.p_light, h.pix, h.occ, pixel_cull_ ? &h.soup : nullptr, h.solids);
+    si.pix_buf = vk.upload(h.pix);
+    si.tri_buf = vk.upload(sorted.tris);
+    si.alpha_buf = vk.upload(sorted.alpha);
+    si.cells = static_cast<uint32_t>(si.cam.cell_count());
+    si.cell_max_z = Buffer(vk, size_t{si.cells} * 4, Memory::device);
+    return si;
+  }
+
+  /// Submission 3: the rasterization of every pixel's cell list, in chunks of the longest.
+  void rasterize(VulkanContext& vk, Programs& programs, const Plan& plan, const HostFrame& h,
+                 const FrameBuffers& fb, const SideInputs& si, const CellLists& lists,
+                 StageTimes& times) const {
+    // An umbra's nearest layer to the pixel fills its mask early when taken first; semi-opaque
+    // occluders keep the list's order, so that their products are formed in the CPU's order.
+    const bool deepest_first = deepest_first_ && pixel_cull_ && !h.occ.semi_opaque;
+    CommandList raster(vk);
+    const RasterInputs in{si.pix_buf.address(),
+                          si.tri_buf.address(),
+                          fb.cell.address(),
+                          lists.begin.address(),
+                          lists.end.address(),
+                          lists.sorted_vals().address(),
+                          fb.rows.address(),
+                          fb.emit.address(),
+                          fb.samples.address(),
+                          si.alpha_buf.address(),
+                          fb.texels.address(),
+                          static_cast<uint32_t>(h.active.size()),
+                          h.ss.uv_lo,
+                          h.ss.uv_hi,
+                          deepest_first,
+                          pixel_cull_,
+                          pixel_cull_ && hidden_cull_,
+                          h.occ.translucent};
+    record_rasterization(programs, raster, plan, in, lists.longest);
+    raster.mark("rasterize");
+    raster.submit(&times);
+  }
   Backend& backend_;
   int grid_ = 0;
   bool lut_ = false;

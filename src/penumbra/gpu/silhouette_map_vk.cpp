@@ -6,10 +6,10 @@
 // faces of its tile in face order, so the LESSEQUAL merge sees the CPU's order) and the final
 // lookup of eq. 4 (silmap_lookup.comp). Both shaders compute in double as the CPU does.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <deque>
+#include <span>
 
 #include "penumbra/core/error.hpp"
 #include "penumbra/gpu/backend.hpp"
@@ -160,6 +160,73 @@ void put3(double* d, const DVec3& v) {
   for (int c = 0; c < 3; ++c) d[c] = v[c];
 }
 
+/// The faces on the GPU, binned to the kTile² tiles they can write: the tiles with faces (one
+/// workgroup each) and their bins, in face order (so that the LESSEQUAL merge sees the CPU's).
+struct TileBins {
+  std::vector<FaceGpu> faces;
+  std::vector<uint32_t> tiles, begin{0}, entries;
+  uint32_t longest = 0;  // the longest bin
+  int tiles_x = 0;       // tiles per side
+};
+
+TileBins bin_faces(const std::vector<silmap::SilFace>& faces, int res, double span_radius) {
+  TileBins out;
+  out.tiles_x = (res + kTile - 1) / kTile;
+  std::vector<std::vector<uint32_t>> bins(static_cast<size_t>(out.tiles_x) * out.tiles_x);
+  out.faces.reserve(faces.size());
+  for (const silmap::SilFace& f : faces) {
+    FaceGpu gf;
+    if (!to_gpu(f, res, span_radius, gf)) continue;
+    bin_face(gf, static_cast<uint32_t>(out.faces.size()), span_radius, out.tiles_x, bins);
+    out.faces.push_back(gf);
+  }
+  for (size_t t = 0; t < bins.size(); ++t) {
+    if (bins[t].empty()) continue;
+    out.tiles.push_back(static_cast<uint32_t>(t));
+    out.entries.insert(out.entries.end(), bins[t].begin(), bins[t].end());
+    out.begin.push_back(static_cast<uint32_t>(out.entries.size()));
+    out.longest = std::max(out.longest, static_cast<uint32_t>(bins[t].size()));
+  }
+  return out;
+}
+
+/// Stage 2's result: the band, the silhouette faces binned to tiles, the eq. 4 table and the
+/// lookup's parameters.
+struct Silhouettes {
+  double half_band = 0.0, span_radius = 0.0;
+  size_t tam_faces = 0;
+  silmap::SilhouetteLayer counts;
+  TileBins bins;
+  std::vector<float> table;  // silmap::GradientTable::values()
+  LookupParams prm{};
+};
+
+/// silmap_lookup.comp's parameters: the depth map's projection and biases, the band and the
+/// table's shape.
+LookupParams lookup_params(const DepthMapView& view, uint32_t res, const DepthMapSettings& map,
+                           double half_band, double radius, const silmap::GradientTable& table) {
+  const Projection& proj = view.proj;
+  LookupParams prm{};
+  put3(prm.eye, proj.eye), put3(prm.right, proj.right), put3(prm.up, proj.up);
+  put3(prm.forward, proj.forward);
+  prm.tan_half_x = proj.tan_half_x, prm.tan_half_y = proj.tan_half_y;
+  prm.texel_tan = view.texel_tan, prm.resolution = res;
+  prm.bias = map.bias, prm.slope_bias = map.slope_bias;
+  prm.half_band = half_band, prm.radius = radius, prm.row_width_max = table.row_width_max();
+  for (int k = 0; k < 4; ++k) {
+    const double a = kPi * (0.25 + 0.5 * k);
+    prm.cos_k[k] = std::cos(a), prm.sin_k[k] = std::sin(a);
+  }
+  prm.rows = table.rows();
+  return prm;
+}
+
+/// Stage 3's device outputs: the silhouette layer (edge distance and depth per texel), the
+/// count of texels visited and each active pixel's visibility.
+struct LayerOutputs {
+  Buffer distance, depth, visited, vis;
+};
+
 class SilhouetteMapVk final : public ShadowMethod {
  public:
   SilhouetteMapVk(Backend& backend, const MethodOptions& o)
@@ -184,25 +251,51 @@ class SilhouetteMapVk final : public ShadowMethod {
     Visibility vis;
     vis.lit = Image<float>(g.width, g.height, 1.0f);
 
-    auto t0 = std::chrono::steady_clock::now();
+    ScopedStage upload_stage(vis.times, "wall_upload");
     const auto [active, cover, points] = lookup_points(g, ctx.receivers);
-    std::deque<Buffer> keep;
+    std::deque<Buffer> keep;  // what the submissions read, kept to the end
     std::deque<Image2D> images;
     keep.push_back(vk.upload(points));
     const Buffer& point_buf = keep.back();
     const Buffer min_buf(vk, sizeof(uint32_t), Memory::device);
-    vis.times.add("wall_upload", elapsed_ms(t0));
+    upload_stage.stop();
 
-    // 1. The depth map (and, in soft mode, its nearest depth for the band).
-    t0 = std::chrono::steady_clock::now();
     const double radius = soft_ ? silmap::light_radius(ctx.light) : 0.0;
+    float min_depth = kInfinity;
+    const GpuDepthMap map =
+        depth_map(vk, ctx, cover, radius, min_buf, keep, images, min_depth, vis.times);
+    const Silhouettes sil = silhouettes(ctx, map, radius, min_depth, vis.times);
+    const LayerOutputs out = silhouettes_and_lookup(
+        vk, sil, map, point_buf, static_cast<uint32_t>(active.size()), keep, vis.times);
+
+    ScopedStage readback_stage(vis.times, "wall_readback");
+    const std::vector<float> v = vk.download<float>(out.vis, active.size());
+    for (size_t a = 0; a < active.size(); ++a) vis.lit[active[a]] = v[a];
+    const uint32_t texels_visited = vk.download<uint32_t>(out.visited, 1)[0];
+    readback_stage.stop();
+    vis.counters["tam_faces"] = static_cast<double>(sil.tam_faces);
+    vis.counters["silhouette_faces"] = static_cast<double>(sil.counts.silhouette_faces);
+    vis.counters["corrected_faces"] = static_cast<double>(sil.counts.corrected_faces);
+    vis.counters["silhouette_texels"] = static_cast<double>(texels_visited);
+    vis.counters["duplicate_faces"] = static_cast<double>(sil.counts.duplicate_faces);
+    vis.counters["half_band_texels"] = sil.half_band;
+    vis.counters["map_texel_tan"] = map.view.texel_tan;
+    return vis;
+  }
+
+ private:
+  /// 1. The depth map and, in soft mode (radius > 0), its nearest depth for the band, into
+  /// `min_depth` (left at kInfinity without a caster).
+  GpuDepthMap depth_map(VulkanContext& vk, const ShadowContext& ctx, std::span<const Vec3> cover,
+                        double radius, const Buffer& min_buf, std::deque<Buffer>& keep,
+                        std::deque<Image2D>& images, float& min_depth, StageTimes& times) {
+    ScopedStage stage(times, "wall_depth_map");
     CommandList cl(vk);
     DepthMapSpec spec;
     spec.resolution = map_.resolution;
     spec.faces = map_.faces;
-    const GpuDepthMap map =
-        record_depth_map(vk, backend_.depth_pipeline(), cl, ctx.scene, hard_shadow_point(ctx.light),
-                         cover, spec, keep, images);
+    GpuDepthMap map = record_depth_map(vk, backend_.depth_pipeline(), cl, ctx.scene,
+                                       hard_shadow_point(ctx.light), cover, spec, keep, images);
     cl.mark("depth_map");
     const uint32_t res = static_cast<uint32_t>(map.resolution), texels = res * res;
     if (radius > 0.0) {
@@ -214,127 +307,91 @@ class SilhouetteMapVk final : public ShadowMethod {
       cl.barrier();
       cl.mark("min_depth");
     }
-    cl.submit(&vis.times);
-    float min_depth = kInfinity;
+    cl.submit(&times);
     if (radius > 0.0) {
       const float m = vk.download<float>(min_buf, 1)[0];
       if (m < kEmptyDepth) min_depth = m;  // FLT_MAX: no caster in the map
     }
-    vis.times.add("wall_depth_map", elapsed_ms(t0));
-
-    // 2. Host: band, silhouette faces, tile bins, table.
-    t0 = std::chrono::steady_clock::now();
-    const Projection& proj = map.view.proj;
-    double half_band = 0.0, max_width = 0.0;
-    const double zmax =
-        radius > 0.0 && min_depth < kInfinity ? silmap::receivers_zmax(ctx, proj) : 0.0;
-    silmap::silhouette_band(width_, max_band_, radius, min_depth, zmax, map.view.texel_tan,
-                            half_band, max_width);
-    if (!prepared_) tam_ = silmap::build_tam(ctx.scene);  // compute() without prepare()
-    const std::vector<silmap::TamFace>& tam = tam_;
-    silmap::SilhouetteLayer counts;
-    const std::vector<silmap::SilFace> faces =
-        silmap::silhouette_faces(tam, proj, static_cast<int>(res), half_band, counts);
-    const double span_radius = half_band + 1.0;
-    const int tiles_x = (static_cast<int>(res) + kTile - 1) / kTile;
-    std::vector<std::vector<uint32_t>> bins(static_cast<size_t>(tiles_x) * tiles_x);
-    std::vector<FaceGpu> gpu_faces;
-    gpu_faces.reserve(faces.size());
-    for (const silmap::SilFace& f : faces) {
-      FaceGpu gf;
-      if (!to_gpu(f, static_cast<int>(res), span_radius, gf)) continue;
-      bin_face(gf, static_cast<uint32_t>(gpu_faces.size()), span_radius, tiles_x, bins);
-      gpu_faces.push_back(gf);
-    }
-    // The tiles with faces (one workgroup each) and their bins, in face order.
-    std::vector<uint32_t> tiles, begin{0}, entries;
-    uint32_t longest = 0;
-    for (size_t t = 0; t < bins.size(); ++t) {
-      if (bins[t].empty()) continue;
-      tiles.push_back(static_cast<uint32_t>(t));
-      entries.insert(entries.end(), bins[t].begin(), bins[t].end());
-      begin.push_back(static_cast<uint32_t>(entries.size()));
-      longest = std::max(longest, static_cast<uint32_t>(bins[t].size()));
-    }
-    const double row_max = std::max(1.0, std::min(max_width, 2.0 * half_band) * 0.5);
-    const silmap::GradientTable table(radius > 0.0 ? silmap::kSoftRows : 1, half_band, row_max, aa_,
-                                      offset_);
-    LookupParams prm{};
-    put3(prm.eye, proj.eye), put3(prm.right, proj.right), put3(prm.up, proj.up);
-    put3(prm.forward, proj.forward);
-    prm.tan_half_x = proj.tan_half_x, prm.tan_half_y = proj.tan_half_y;
-    prm.texel_tan = map.view.texel_tan, prm.resolution = res;
-    prm.bias = map_.bias, prm.slope_bias = map_.slope_bias;
-    prm.half_band = half_band, prm.radius = radius, prm.row_width_max = table.row_width_max();
-    for (int k = 0; k < 4; ++k) {
-      const double a = kPi * (0.25 + 0.5 * k);
-      prm.cos_k[k] = std::cos(a), prm.sin_k[k] = std::sin(a);
-    }
-    prm.rows = table.rows();
-    vis.times.add("wall_silhouette_faces", elapsed_ms(t0));
-
-    // 3. GPU: the silhouette layer, then the lookup.
-    t0 = std::chrono::steady_clock::now();
-    keep.push_back(vk.upload(gpu_faces.empty() ? std::vector<FaceGpu>(1) : gpu_faces));
-    const Buffer& face_buf = keep.back();
-    keep.push_back(vk.upload(tiles.empty() ? std::vector<uint32_t>(1) : tiles));
-    const Buffer& tile_buf = keep.back();
-    keep.push_back(vk.upload(begin));
-    const Buffer& begin_buf = keep.back();
-    keep.push_back(vk.upload(entries.empty() ? std::vector<uint32_t>(1) : entries));
-    const Buffer& entry_buf = keep.back();
-    keep.push_back(vk.upload(table.values()));
-    const Buffer& table_buf = keep.back();
-    keep.push_back(vk.upload(&prm, sizeof(prm)));
-    const Buffer& prm_buf = keep.back();
-    const Buffer distance(vk, size_t{texels} * 4, Memory::device);
-    const Buffer depth(vk, size_t{texels} * 4, Memory::device);
-    const Buffer visited(vk, 4, Memory::device);
-    const Buffer vis_buf(vk, std::max<size_t>(active.size(), 1) * sizeof(float), Memory::device);
-    CommandList cl2(vk);
-    cl2.fill(distance, 0);
-    cl2.fill(depth, 0x7f800000u);  // +inf: no silhouette yet
-    cl2.fill(visited, 0);
-    cl2.barrier();
-    const uint32_t chunk = entry_chunk(vk);
-    const uint32_t tile_count = static_cast<uint32_t>(tiles.size());
-    for (uint32_t first = 0; first < longest; first += chunk) {
-      cl2.dispatch(backend_.programs().get(Shader::silmap_layer),
-                   LayerPush{face_buf.address(), tile_buf.address(), begin_buf.address(),
-                             entry_buf.address(), distance.address(), depth.address(),
-                             visited.address(), half_band, span_radius, res,
-                             static_cast<uint32_t>(tiles_x), tile_count, first, chunk},
-                   uint64_t{tile_count} * kTile * kTile);
-      cl2.barrier();
-    }
-    cl2.mark("silhouettes");
-    const uint32_t n = static_cast<uint32_t>(active.size());
-    cl2.dispatch(
-        backend_.programs().get(Shader::silmap_lookup),
-        LookupPush{prm_buf.address(), point_buf.address(), map.depth.address(), distance.address(),
-                   depth.address(), table_buf.address(), vis_buf.address(), n},
-        n);
-    cl2.barrier();
-    cl2.mark("lookup");
-    cl2.submit(&vis.times);
-    vis.times.add("wall_gpu", elapsed_ms(t0));
-
-    t0 = std::chrono::steady_clock::now();
-    const std::vector<float> v = vk.download<float>(vis_buf, active.size());
-    for (size_t a = 0; a < active.size(); ++a) vis.lit[active[a]] = v[a];
-    const uint32_t texels_visited = vk.download<uint32_t>(visited, 1)[0];
-    vis.times.add("wall_readback", elapsed_ms(t0));
-    vis.counters["tam_faces"] = static_cast<double>(tam.size());
-    vis.counters["silhouette_faces"] = static_cast<double>(counts.silhouette_faces);
-    vis.counters["corrected_faces"] = static_cast<double>(counts.corrected_faces);
-    vis.counters["silhouette_texels"] = static_cast<double>(texels_visited);
-    vis.counters["duplicate_faces"] = static_cast<double>(counts.duplicate_faces);
-    vis.counters["half_band_texels"] = half_band;
-    vis.counters["map_texel_tan"] = map.view.texel_tan;
-    return vis;
+    return map;
   }
 
- private:
+  /// 2. Host: the band, the silhouette faces (the TAM's, eq. 1, the §2.1.1 correction and the
+  /// eq. 2 scaling), their tile bins, and the eq. 4 table.
+  Silhouettes silhouettes(const ShadowContext& ctx, const GpuDepthMap& map, double radius,
+                          float min_depth, StageTimes& times) {
+    ScopedStage stage(times, "wall_silhouette_faces");
+    Silhouettes out;
+    const int res = map.resolution;
+    double max_width = 0.0;
+    const double zmax =
+        radius > 0.0 && min_depth < kInfinity ? silmap::receivers_zmax(ctx, map.view.proj) : 0.0;
+    silmap::silhouette_band(width_, max_band_, radius, min_depth, zmax, map.view.texel_tan,
+                            out.half_band, max_width);
+    if (!prepared_) tam_ = silmap::build_tam(ctx.scene);  // compute() without prepare()
+    out.tam_faces = tam_.size();
+    const std::vector<silmap::SilFace> faces =
+        silmap::silhouette_faces(tam_, map.view.proj, res, out.half_band, out.counts);
+    out.span_radius = out.half_band + 1.0;
+    out.bins = bin_faces(faces, res, out.span_radius);
+    const double row_max = std::max(1.0, std::min(max_width, 2.0 * out.half_band) * 0.5);
+    const silmap::GradientTable table(radius > 0.0 ? silmap::kSoftRows : 1, out.half_band, row_max,
+                                      aa_, offset_);
+    out.table = table.values();
+    out.prm =
+        lookup_params(map.view, static_cast<uint32_t>(res), map_, out.half_band, radius, table);
+    return out;
+  }
+
+  /// 3. GPU: the silhouette layer, in chunks of the longest bin (llvmpipe's loop limit), then the
+  /// lookup of eq. 4 for the `n` points in point_buf.
+  LayerOutputs silhouettes_and_lookup(VulkanContext& vk, const Silhouettes& sil,
+                                      const GpuDepthMap& map, const Buffer& point_buf, uint32_t n,
+                                      std::deque<Buffer>& keep, StageTimes& times) {
+    ScopedStage stage(times, "wall_gpu");
+    const TileBins& bins = sil.bins;
+    const uint32_t res = static_cast<uint32_t>(map.resolution), texels = res * res;
+    keep.push_back(vk.upload(bins.faces.empty() ? std::vector<FaceGpu>(1) : bins.faces));
+    const Buffer& face_buf = keep.back();
+    keep.push_back(vk.upload(bins.tiles.empty() ? std::vector<uint32_t>(1) : bins.tiles));
+    const Buffer& tile_buf = keep.back();
+    keep.push_back(vk.upload(bins.begin));
+    const Buffer& begin_buf = keep.back();
+    keep.push_back(vk.upload(bins.entries.empty() ? std::vector<uint32_t>(1) : bins.entries));
+    const Buffer& entry_buf = keep.back();
+    keep.push_back(vk.upload(sil.table));
+    const Buffer& table_buf = keep.back();
+    keep.push_back(vk.upload(&sil.prm, sizeof(sil.prm)));
+    const Buffer& prm_buf = keep.back();
+    LayerOutputs out{Buffer(vk, size_t{texels} * 4, Memory::device),
+                     Buffer(vk, size_t{texels} * 4, Memory::device), Buffer(vk, 4, Memory::device),
+                     Buffer(vk, std::max<size_t>(n, 1) * sizeof(float), Memory::device)};
+    CommandList cl(vk);
+    cl.fill(out.distance, 0);
+    cl.fill(out.depth, 0x7f800000u);  // +inf: no silhouette yet
+    cl.fill(out.visited, 0);
+    cl.barrier();
+    const uint32_t chunk = entry_chunk(vk);
+    const uint32_t tile_count = static_cast<uint32_t>(bins.tiles.size());
+    for (uint32_t first = 0; first < bins.longest; first += chunk) {
+      cl.dispatch(backend_.programs().get(Shader::silmap_layer),
+                  LayerPush{face_buf.address(), tile_buf.address(), begin_buf.address(),
+                            entry_buf.address(), out.distance.address(), out.depth.address(),
+                            out.visited.address(), sil.half_band, sil.span_radius, res,
+                            static_cast<uint32_t>(bins.tiles_x), tile_count, first, chunk},
+                  uint64_t{tile_count} * kTile * kTile);
+      cl.barrier();
+    }
+    cl.mark("silhouettes");
+    cl.dispatch(backend_.programs().get(Shader::silmap_lookup),
+                LookupPush{prm_buf.address(), point_buf.address(), map.depth.address(),
+                           out.distance.address(), out.depth.address(), table_buf.address(),
+                           out.vis.address(), n},
+                n);
+    cl.barrier();
+    cl.mark("lookup");
+    cl.submit(&times);
+    return out;
+  }
   Backend& backend_;
   DepthMapSettings map_;
   bool soft_;

@@ -172,38 +172,44 @@ bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& wi
   return sure;
 }
 
-std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
-                                             std::span<const uint32_t> triangles,
-                                             size_t& measure_budget) {
-  const ExactSolid& solid = scene.solids()[s];
-  const DVec3 box_lo(solid.box.lo), extent = DVec3(solid.box.hi) - box_lo;
-  const double longest = std::max({extent.x, extent.y, extent.z});
-  if (!(longest > 0.0) || !std::isfinite(longest)) return {};
-  // No ball is wider than the box's narrowest side.
-  const double limit = 0.5 * std::min({extent.x, extent.y, extent.z}) + 1e-12 * longest;
+namespace {
 
-  // Candidates from a voxel grid: voxels touched by a triangle's box (surface and caps) are walls,
-  // the others reachable from the padded border are outside, the rest inside, ranked by their
-  // chamfer distance to a wall or the outside. Only the ranking comes from the voxels: every
-  // kept ball is measured against the triangles and its winding number counted.
-  const int along =
-      std::clamp(static_cast<int>(8.0 * std::cbrt(static_cast<double>(triangles.size()))), 8,
-                 kInnerBallVoxels);
-  const double h = longest / along;
+/// The voxel grid that ranks a solid's ball candidates: its box padded by one layer, `along`
+/// voxels of side h along the box's longest side; dist per voxel: −1 inside (until the flood),
+/// 0 on walls and outside, then the inside's chamfer distances.
+struct VoxelGrid {
+  double h;
   int n[3];
-  for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil(extent[a] / h - 1e-9)) + 3;
-  const DVec3 origin = box_lo - DVec3(h);
-  const size_t voxels = static_cast<size_t>(n[0]) * n[1] * n[2];
-  const auto index = [&](int x, int y, int z) {
-    return (static_cast<size_t>(z) * n[1] + y) * n[0] + x;
-  };
-  std::vector<int32_t> dist(voxels, -1);  // −1: inside (until the flood); walls and outside: 0
-  // The voxel layers a triangle's box spans along axis a, first and last (unclamped).
-  const auto span = [&](const DVec3* v, int a) {
+  DVec3 origin;
+  size_t voxels;
+  std::vector<int32_t> dist;
+
+  VoxelGrid(const DVec3& box_lo, const DVec3& extent, double longest, size_t triangles) {
+    const int along = std::clamp(static_cast<int>(8.0 * std::cbrt(static_cast<double>(triangles))),
+                                 8, kInnerBallVoxels);
+    h = longest / along;
+    for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil(extent[a] / h - 1e-9)) + 3;
+    origin = box_lo - DVec3(h);
+    voxels = static_cast<size_t>(n[0]) * n[1] * n[2];
+    dist.assign(voxels, -1);
+  }
+  size_t index(int x, int y, int z) const { return (static_cast<size_t>(z) * n[1] + y) * n[0] + x; }
+  /// The voxel layers a triangle's box spans along axis a, first and last (unclamped).
+  std::pair<double, double> span(const DVec3* v, int a) const {
     return std::pair{std::floor((std::min({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h),
                      std::floor((std::max({v[0][a], v[1][a], v[2][a]}) - origin[a]) / h)};
-  };
-  const auto wall = [&](const DVec3* v) {
+  }
+  /// The voxels a triangle's box spans.
+  double box_voxels(const DVec3* v) const {
+    double count = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      const auto [first, last] = span(v, a);
+      count *= last - first + 1.0;
+    }
+    return count;
+  }
+  /// Marks the voxels a triangle's box spans as walls.
+  void wall(const DVec3* v) {
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       const auto [first, last] = span(v, a);
@@ -214,46 +220,59 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) dist[index(x, y, z)] = 0;
-  };
-  // Large triangles make many walls: past a budget of voxel visits the solid gets no balls (they
-  // only save time).
-  double visits = 0.0;
-  const auto box_voxels = [&](const DVec3* v) {
-    double count = 1.0;
-    for (int a = 0; a < 3; ++a) {
-      const auto [first, last] = span(v, a);
-      count *= last - first + 1.0;
-    }
-    return count;
-  };
-  const auto& occluders = scene.occluders();
-  for (const uint32_t t : triangles) visits += box_voxels(occluders[t].v);
-  for (const auto& cap : solid.caps) visits += box_voxels(cap.data());
-  if (!(visits <= 16.0 * static_cast<double>(voxels))) return {};
-  for (const uint32_t t : triangles) wall(occluders[t].v);
-  for (const auto& cap : solid.caps) wall(cap.data());
-  // Outside: flood from a border voxel (the padding layer holds no wall).
-  std::vector<size_t> queue{0};
-  dist[0] = 0;
-  const int step[3] = {1, n[0], n[0] * n[1]};
-  const auto neighbours = [&](size_t v, auto&& fn) {
+  }
+  /// Calls fn(w) for each voxel w sharing a face with voxel v.
+  template <class F>
+  void neighbours(size_t v, F&& fn) const {
+    const int step[3] = {1, n[0], n[0] * n[1]};
     const int c[3] = {static_cast<int>(v % n[0]), static_cast<int>(v / n[0] % n[1]),
                       static_cast<int>(v / (static_cast<size_t>(n[0]) * n[1]))};
     for (int a = 0; a < 3; ++a) {
       if (c[a] > 0) fn(v - step[a]);
       if (c[a] + 1 < n[a]) fn(v + step[a]);
     }
-  };
+  }
+  DVec3 centre(size_t v) const {
+    return origin + h * DVec3(static_cast<double>(v % n[0]) + 0.5,
+                              static_cast<double>(v / n[0] % n[1]) + 0.5,
+                              static_cast<double>(v / (static_cast<size_t>(n[0]) * n[1])) + 0.5);
+  }
+};
+
+/// The walls: voxels touched by a triangle's box (surface and caps). Large triangles make many
+/// walls: past a budget of voxel visits none are marked and the answer is false (the solid gets
+/// no balls; they only save time).
+bool mark_walls(VoxelGrid& grid, const ExactScene& scene, const ExactSolid& solid,
+                std::span<const uint32_t> triangles) {
+  double visits = 0.0;
+  const auto& occluders = scene.occluders();
+  for (const uint32_t t : triangles) visits += grid.box_voxels(occluders[t].v);
+  for (const auto& cap : solid.caps) visits += grid.box_voxels(cap.data());
+  if (!(visits <= 16.0 * static_cast<double>(grid.voxels))) return false;
+  for (const uint32_t t : triangles) grid.wall(occluders[t].v);
+  for (const auto& cap : solid.caps) grid.wall(cap.data());
+  return true;
+}
+
+/// Outside: flood from a border voxel (the padding layer holds no wall).
+void flood_outside(VoxelGrid& grid) {
+  std::vector<size_t> queue{0};
+  grid.dist[0] = 0;
   for (size_t head = 0; head < queue.size(); ++head)
-    neighbours(queue[head], [&](size_t w) {
-      if (dist[w] == -1) {
-        dist[w] = 0;
+    grid.neighbours(queue[head], [&](size_t w) {
+      if (grid.dist[w] == -1) {
+        grid.dist[w] = 0;
         queue.push_back(w);
       }
     });
-  // Inside voxels by their chamfer distance (weights 3, 4, 5 for face, edge and corner steps:
-  // within 8 % of Euclidean) to a wall or the outside, in two raster passes.
+}
+
+/// Inside voxels by their chamfer distance (weights 3, 4, 5 for face, edge and corner steps:
+/// within 8 % of Euclidean) to a wall or the outside, in two raster passes.
+void chamfer_distances(VoxelGrid& grid) {
   constexpr int32_t kFar = 1 << 29;
+  const int* n = grid.n;
+  std::vector<int32_t>& dist = grid.dist;
   for (int32_t& d : dist) d = d == 0 ? 0 : kFar;
   // The 13 neighbours a forward raster pass has already visited, as index offsets and weights
   // (the backward pass uses their negatives). The border layer is outside, so only the interior
@@ -276,11 +295,16 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
   };
   for (int z = 1; z + 1 < n[2]; ++z)
     for (int y = 1; y + 1 < n[1]; ++y)
-      for (int x = 1; x + 1 < n[0]; ++x) relax(index(x, y, z), 1);
+      for (int x = 1; x + 1 < n[0]; ++x) relax(grid.index(x, y, z), 1);
   for (int z = n[2] - 2; z >= 1; --z)
     for (int y = n[1] - 2; y >= 1; --y)
-      for (int x = n[0] - 2; x >= 1; --x) relax(index(x, y, z), -1);
-  // Farthest first, ties in voxel order (deterministic): a counting sort by distance.
+      for (int x = n[0] - 2; x >= 1; --x) relax(grid.index(x, y, z), -1);
+}
+
+/// The inside voxels, farthest first, ties in voxel order (deterministic): a counting sort by
+/// distance.
+std::vector<size_t> rank_inside(const VoxelGrid& grid) {
+  const std::vector<int32_t>& dist = grid.dist;
   int32_t far = 0;
   for (const int32_t d : dist) far = std::max(far, d);
   std::vector<size_t> start(static_cast<size_t>(far) + 2, 0);
@@ -288,40 +312,40 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
     if (d > 0) ++start[static_cast<size_t>(far - d) + 1];
   for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
   std::vector<size_t> ranked(start.back());
-  for (size_t v = 0; v < voxels; ++v)
+  for (size_t v = 0; v < grid.voxels; ++v)
     if (dist[v] > 0) ranked[start[static_cast<size_t>(far - dist[v])]++] = v;
-  const auto centre = [&](size_t v) {
-    return origin + h * DVec3(static_cast<double>(v % n[0]) + 0.5,
-                              static_cast<double>(v / n[0] % n[1]) + 0.5,
-                              static_cast<double>(v / (static_cast<size_t>(n[0]) * n[1])) + 0.5);
-  };
+  return ranked;
+}
 
-  const auto covered = [](const std::vector<ExactInnerBall>& kept, const DVec3& c) {
-    for (const ExactInnerBall& b : kept)
-      if (glm::length(c - b.center) < b.radius) return true;
-    return false;
-  };
-  // A candidate's ball: its distance to the surface (less a relative 1e-6), kept if the winding
-  // number there is non-zero.
+bool covered(const std::vector<ExactInnerBall>& kept, const DVec3& c) {
+  for (const ExactInnerBall& b : kept)
+    if (glm::length(c - b.center) < b.radius) return true;
+  return false;
+}
+
+/// The balls at the ranked voxels' centres: each one's distance to solid s's surface (less a
+/// relative 1e-6, sought within `limit`), kept if the winding number there is non-zero. In
+/// batches measured in parallel, accepted in rank order (deterministic), none with its centre
+/// inside an accepted ball. Voxels next to a wall hold balls too small to hide a light; a budget
+/// bounds the work: at most `most` balls, 4 · most measured, and measure_budget, which each
+/// measure spends.
+std::vector<ExactInnerBall> measure_balls(const ExactScene& scene, uint32_t s,
+                                          const VoxelGrid& grid, const std::vector<size_t>& ranked,
+                                          double limit, size_t most, size_t& measure_budget) {
   const auto measure = [&](const DVec3& c) -> std::optional<ExactInnerBall> {
     const double d2 = nearest_distance2(scene, s, c, limit);
     int w = 0;
     if (!(d2 > 0.0) || !winding_number(scene, s, c, w) || w == 0) return std::nullopt;
     return ExactInnerBall{c, std::sqrt(d2) * (1.0 - 1e-6)};
   };
-  // In batches measured in parallel, accepted in rank order (deterministic), none with its centre
-  // inside an accepted ball. Voxels next to a wall hold balls too small to hide a light; a budget
-  // bounds the work.
   std::vector<ExactInnerBall> out;
   constexpr size_t kBatch = 16;
   size_t next = 0, measured = 0;
-  // As many balls as triangles at most (a box needs no 128), 8 to kMaxInnerBalls.
-  const size_t most = std::clamp<size_t>(triangles.size(), 8, kMaxInnerBalls);
   const size_t allowed = std::min(4 * most, measure_budget);
   while (out.size() < most && measured < allowed) {
     std::vector<DVec3> batch;
-    for (; next < ranked.size() && dist[ranked[next]] >= 3 && batch.size() < kBatch; ++next)
-      if (!covered(out, centre(ranked[next]))) batch.push_back(centre(ranked[next]));
+    for (; next < ranked.size() && grid.dist[ranked[next]] >= 3 && batch.size() < kBatch; ++next)
+      if (!covered(out, grid.centre(ranked[next]))) batch.push_back(grid.centre(ranked[next]));
     if (batch.empty()) break;
     measured += batch.size();
     measure_budget -= std::min(measure_budget, batch.size());
@@ -336,6 +360,32 @@ std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s
       if (ball && out.size() < most && !covered(out, ball->center)) out.push_back(*ball);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<ExactInnerBall> find_inner_balls(const ExactScene& scene, uint32_t s,
+                                             std::span<const uint32_t> triangles,
+                                             size_t& measure_budget) {
+  const ExactSolid& solid = scene.solids()[s];
+  const DVec3 box_lo(solid.box.lo), extent = DVec3(solid.box.hi) - box_lo;
+  const double longest = std::max({extent.x, extent.y, extent.z});
+  if (!(longest > 0.0) || !std::isfinite(longest)) return {};
+  // No ball is wider than the box's narrowest side.
+  const double limit = 0.5 * std::min({extent.x, extent.y, extent.z}) + 1e-12 * longest;
+
+  // Candidates from a voxel grid: voxels touched by a triangle's box (surface and caps) are walls,
+  // the others reachable from the padded border are outside, the rest inside, ranked by their
+  // chamfer distance to a wall or the outside. Only the ranking comes from the voxels: every
+  // kept ball is measured against the triangles and its winding number counted.
+  VoxelGrid grid(box_lo, extent, longest, triangles.size());
+  if (!mark_walls(grid, scene, solid, triangles)) return {};
+  flood_outside(grid);
+  chamfer_distances(grid);
+  const std::vector<size_t> ranked = rank_inside(grid);
+  // As many balls as triangles at most (a box needs no 128), 8 to kMaxInnerBalls.
+  const size_t most = std::clamp<size_t>(triangles.size(), 8, kMaxInnerBalls);
+  return measure_balls(scene, s, grid, ranked, limit, most, measure_budget);
 }
 
 std::vector<ExactBallGroup> group_inner_balls(std::vector<ExactInnerBall>& balls,

@@ -179,6 +179,223 @@ SlabCull slab_cull(const GridCamera& cam, const PixelCells& cells) {
   return sc;
 }
 
+/// Pass 1's counts, AssignStats' fields of the same names.
+struct PassCounts {
+  uint64_t behind = 0, beyond = 0, straddle = 0, no_retraction = 0, aabb_cells = 0;
+};
+
+/// One side's assignment: its inputs, and pass 1's result per triangle, which pass 2 reads.
+struct Assignment {
+  const GridCamera& cam;
+  const TriangleSoup& soup;
+  const PixelCells& cells;
+  const AssignOptions& options;
+  double sgn;         // +1, or −1: the soup's depths mirrored
+  double straddle_z;  // a triangle whose nearest depth is at most this reaches the light's
+  SlabCull slab;      // sphere lights: triangles in the light's depth slab, tested per cell
+  // Per triangle: its cell rectangle and nearest depth; sphere lights' slab triangles: their
+  // bounding sphere (w < 0: not one) and the cells found for them.
+  std::vector<CellRect> rects;
+  std::vector<float> zmins;
+  std::vector<DVec4> slab_sphere;
+  std::vector<std::vector<uint32_t>> slab_cells;
+
+  Assignment(const GridCamera& c, const TriangleSoup& s, int side, const PixelCells& pc,
+             const AssignOptions& o)
+      : cam(c),
+        soup(s),
+        cells(pc),
+        options(o),
+        sgn(side < 0 ? -1.0 : 1.0),
+        straddle_z(c.light_max_z + 1e-6 * std::max(1.0, std::abs(static_cast<double>(c.far_z)))),
+        slab(slab_cull(c, pc)),
+        rects(s.size()),
+        zmins(s.size()),
+        slab_sphere(slab.on ? s.size() : 0, DVec4(0.0, 0.0, 0.0, -1.0)),
+        slab_cells(slab.on ? s.size() : 0) {}
+
+  /// A blocker can be as deep as the deepest light point (a sphere reaches behind samples within
+  /// its depth slab): the depth cut compares against max(deepest sample, light_max_z).
+  bool cell_ok(int c, float zmin) const {
+    const float mz = cells.max_z[c];
+    if (!(mz > -kInfinity)) return false;  // no samples
+    return !options.cell_depth_cull || std::max(mz, cam.light_max_z) >= zmin;
+  }
+  bool slab_triangle(size_t t) const { return slab.on && slab_sphere[t].w >= 0.0; }
+
+  /// Pass 1 for triangle t: its cells and nearest depth, and its share of the counts.
+  void count_triangle(size_t t, PassCounts& n) {
+    DVec3 tri[3];
+    for (int c = 0; c < 3; ++c) tri[c] = DVec3(soup.x[c][t], soup.y[c][t], sgn * soup.z[c][t]);
+    CellRect r = triangle_rect(t, tri, n);
+    if (slab_triangle(t)) {
+      slab.for_each_cell(slab_sphere[t], [&](int c) {
+        if (cell_ok(c, zmins[t])) slab_cells[t].push_back(static_cast<uint32_t>(c));
+      });
+      n.aabb_cells += slab_cells[t].size();
+    } else if (!r.empty()) {
+      n.aabb_cells += r.area();
+      if (!options.retraction)
+        for (int y = r.y0; y <= r.y1; ++y)
+          for (int x = r.x0; x <= r.x1; ++x)
+            n.no_retraction += cell_ok(y * cam.res_x + x, zmins[t]);
+    }
+    rects[t] = r;
+  }
+
+  /// Triangle t's cell rectangle (`tri`: its vertices, this side's depths): none behind the light
+  /// or beyond every sample, the whole grid when it reaches the light's depth, else its
+  /// footprint, retracted.
+  CellRect triangle_rect(size_t t, const DVec3 tri[3], PassCounts& n) {
+    const double zmin = std::min({tri[0].z, tri[1].z, tri[2].z});
+    const double zmax = std::max({tri[0].z, tri[1].z, tri[2].z});
+    const double far_z = cam.far_z;
+    zmins[t] = static_cast<float>(zmin);
+    if (zmax < cam.light_min_z) {
+      ++n.behind;  // every segment sample→light lies in front of the light plane
+      return {};
+    }
+    if (zmin > far_z) {
+      ++n.beyond;
+      return {};
+    }
+    if (zmin <= straddle_z) {
+      // Reaches the light's depth: its extrusion is unbounded; the whole grid, for a sphere
+      // light only the cells whose capsule it reaches (SlabCull).
+      ++n.straddle;
+      if (slab.on) {
+        DVec3 m(0.0);
+        for (int c = 0; c < 3; ++c) m += slab.scaled(tri[c]) / 3.0;
+        double radius = 0.0;
+        for (int c = 0; c < 3; ++c) radius = std::max(radius, glm::length(slab.scaled(tri[c]) - m));
+        slab_sphere[t] = DVec4(m, radius * (1.0 + 1e-6));
+      }
+      return {0, 0, cam.res_x - 1, cam.res_y - 1};
+    }
+    const CellRect r = footprint(cam, tri, far_z);
+    if (r.empty()) ++n.beyond;
+    if (r.empty() || !options.retraction) return r;
+    // Retraction [Wang 2014 §3.1]: extrude only to the deepest sample in the touched cells.
+    float zr = -kInfinity;
+    uint64_t nonempty = 0;
+    for (int y = r.y0; y <= r.y1; ++y)
+      for (int x = r.x0; x <= r.x1; ++x) {
+        const float mz = cells.max_z[y * cam.res_x + x];
+        zr = std::max(zr, mz);
+        nonempty += options.cell_depth_cull ? mz >= zmins[t] : mz > -kInfinity;
+      }
+    n.no_retraction += nonempty;
+    return zr < zmin ? CellRect{} : intersect(r, footprint(cam, tri, zr));
+  }
+
+  /// Calls f(cell) for each of triangle t's cells (pass 2), in cell order.
+  template <class F>
+  void for_each_cell(uint32_t t, F&& f) const {
+    if (slab_triangle(t)) {
+      for (const uint32_t c : slab_cells[t]) f(c);
+      return;
+    }
+    const CellRect& r = rects[t];
+    for (int y = r.y0; y <= r.y1; ++y)
+      for (int x = r.x0; x <= r.x1; ++x) {
+        const int c = y * cam.res_x + x;
+        if (cell_ok(c, zmins[t])) f(static_cast<uint32_t>(c));
+      }
+  }
+};
+
+/// Pass 1 (count): footprint, retraction, cellsN per triangle, in parallel.
+PassCounts count_pass(Assignment& a) {
+  std::atomic<uint64_t> behind{0}, beyond{0}, straddle{0}, no_retraction{0}, aabb_cells{0};
+  parallel_chunks(a.soup.size(), 1024, [&](size_t b, size_t e) {
+    PassCounts local;
+    for (size_t t = b; t < e; ++t) a.count_triangle(t, local);
+    behind += local.behind;
+    beyond += local.beyond;
+    straddle += local.straddle;
+    no_retraction += local.no_retraction;
+    aabb_cells += local.aabb_cells;
+  });
+  return {behind.load(), beyond.load(), straddle.load(), no_retraction.load(), aabb_cells.load()};
+}
+
+/// The triangles in order of nearest depth (ties: id) [Wang 2014 §4.2 takes a prefix sum of
+/// cellsN in triangle order]: each cell's list is then sorted by depth, and a work item reads
+/// only the prefix its deepest sample can be blocked by (the depth cut).
+std::vector<uint32_t> depth_order(const std::vector<float>& zmins) {
+  const size_t n = zmins.size();
+  // Sorted as 64-bit keys (depth bits made to order like the values, id): a strict total order,
+  // so the parallel sort's result is the serial one's, without a lookup per comparison.
+  std::vector<uint64_t> keys(n);
+  parallel_chunks(n, 16384, [&](size_t b, size_t e) {
+    for (size_t t = b; t < e; ++t) {
+      const uint32_t bits = std::bit_cast<uint32_t>(zmins[t] + 0.0f);  // −0 as +0
+      const uint32_t ordered = bits & 0x80000000u ? ~bits : bits | 0x80000000u;
+      keys[t] = uint64_t{ordered} << 32 | t;
+    }
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::vector<uint32_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(keys[i]);
+  return order;
+}
+
+/// Pass 2: the (triID, cellID) pairs, by cell [Wang 2014 §4.2 writes them, then sorts them on
+/// cellID]. Written in cell order at once, by a counting sort fused with the write: the
+/// depth-ordered triangles are cut into fixed chunks, each chunk counts its pairs per cell, the
+/// offsets run over (cell, chunk), and each chunk writes at its own cursor per cell. The result
+/// is the stable sort by cell of the depth-ordered pairs, without a sort's passes and buffer.
+struct PairChunks {
+  const Assignment& a;
+  const std::vector<uint32_t>& order;
+  size_t cell_count, chunks, per_chunk;
+  std::vector<uint32_t> cursor;  // chunks × cells: each chunk's count, then its cursor, per cell
+
+  // Fixed chunks (the result never depends on them nor on the threads); their cursors, chunks ×
+  // cells words, stay below about half the pairs' own size.
+  PairChunks(const Assignment& as, const std::vector<uint32_t>& o, uint64_t aabb_cells)
+      : a(as),
+        order(o),
+        cell_count(static_cast<size_t>(as.cam.cell_count())),
+        chunks(std::clamp<size_t>(aabb_cells / (2 * cell_count), 1, 16)),
+        per_chunk((o.size() + chunks - 1) / chunks),
+        cursor(chunks * cell_count, 0) {}
+
+  /// Calls f(row, cell, triangle) for every pair, each chunk's in order with its own row of
+  /// `cursor` (chunks in parallel).
+  template <class F>
+  void for_each_pair(F&& f) {
+    const size_t n = order.size();
+    parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
+      for (size_t ch = c0; ch < c1; ++ch) {
+        uint32_t* row = cursor.data() + ch * cell_count;
+        for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i) {
+          const uint32_t t = order[i];
+          a.for_each_cell(t, [&](uint32_t c) { f(row, c, t); });
+        }
+      }
+    });
+  }
+
+  /// The counts into each cell's [begin, end) and each chunk's cursors; returns the pair count.
+  uint64_t offsets(CellTriangles& out) {
+    out.begin.resize(cell_count);
+    out.end.resize(cell_count);
+    uint64_t running = 0;
+    for (size_t c = 0; c < cell_count; ++c) {
+      out.begin[c] = static_cast<uint32_t>(running);
+      for (size_t ch = 0; ch < chunks; ++ch) {
+        uint32_t& at = cursor[ch * cell_count + c];
+        const uint32_t count = at;
+        at = static_cast<uint32_t>(running);
+        running += count;
+      }
+      out.end[c] = static_cast<uint32_t>(running);
+    }
+    return running;
+  }
+};
+
 }  // namespace
 
 PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& pixels,
@@ -232,177 +449,36 @@ PixelCells bucket_pixels(const GridCamera& camera, const std::vector<uint32_t>& 
 CellTriangles assign_triangles(const GridCamera& cam, const TriangleSoup& soup, int side,
                                const PixelCells& cells, const AssignOptions& options,
                                AssignStats& stats) {
-  const size_t n = soup.size();
-  const double sgn = side < 0 ? -1.0 : 1.0;
-  std::vector<CellRect> rects(n);
-  std::vector<float> zmins(n);
-  std::atomic<uint64_t> behind{0}, beyond{0}, straddle{0}, no_retraction{0}, aabb_cells{0};
-  const double far_z = cam.far_z;
-  const double straddle_z = cam.light_max_z + 1e-6 * std::max(1.0, std::abs(far_z));
-  const CellRect whole{0, 0, cam.res_x - 1, cam.res_y - 1};
-
-  // A blocker can be as deep as the deepest light point (a sphere reaches behind samples within
-  // its depth slab): the depth cut compares against max(deepest sample, light_max_z).
-  auto cell_ok = [&](int c, float zmin) {
-    const float mz = cells.max_z[c];
-    if (!(mz > -kInfinity)) return false;  // no samples
-    return !options.cell_depth_cull || std::max(mz, cam.light_max_z) >= zmin;
-  };
-  // Sphere lights: triangles in the light's depth slab, tested per cell (SlabCull).
-  const SlabCull slab = slab_cull(cam, cells);
-  std::vector<DVec4> slab_sphere(slab.on ? n : 0, DVec4(0.0, 0.0, 0.0, -1.0));
-  auto slab_triangle = [&](size_t t) { return slab.on && slab_sphere[t].w >= 0.0; };
-  std::vector<std::vector<uint32_t>> slab_cells(slab.on ? n : 0);  // found by pass 1, for pass 2
-
-  // Pass 1 (count): footprint, retraction, cellsN per triangle.
+  Assignment a(cam, soup, side, cells, options);
   auto t0 = std::chrono::steady_clock::now();
-  parallel_chunks(n, 1024, [&](size_t b, size_t e) {
-    uint64_t l_behind = 0, l_beyond = 0, l_straddle = 0, l_noret = 0, l_aabb = 0;
-    for (size_t t = b; t < e; ++t) {
-      DVec3 tri[3];
-      for (int c = 0; c < 3; ++c) tri[c] = DVec3(soup.x[c][t], soup.y[c][t], sgn * soup.z[c][t]);
-      const double zmin = std::min({tri[0].z, tri[1].z, tri[2].z});
-      const double zmax = std::max({tri[0].z, tri[1].z, tri[2].z});
-      zmins[t] = static_cast<float>(zmin);
-      CellRect r;
-      if (zmax < cam.light_min_z) {
-        ++l_behind;  // every segment sample→light lies in front of the light plane
-      } else if (zmin > far_z) {
-        ++l_beyond;
-      } else if (zmin <= straddle_z) {
-        // Reaches the light's depth: its extrusion is unbounded; the whole grid, for a sphere
-        // light only the cells whose capsule it reaches (SlabCull).
-        ++l_straddle;
-        r = whole;
-        if (slab.on) {
-          DVec3 m(0.0);
-          for (const DVec3& v : tri) m += slab.scaled(v) / 3.0;
-          double radius = 0.0;
-          for (const DVec3& v : tri) radius = std::max(radius, glm::length(slab.scaled(v) - m));
-          slab_sphere[t] = DVec4(m, radius * (1.0 + 1e-6));
-        }
-      } else {
-        r = footprint(cam, tri, far_z);
-        if (r.empty()) ++l_beyond;
-        if (!r.empty() && options.retraction) {
-          // Retraction [Wang 2014 §3.1]: extrude only to the deepest sample in the touched cells.
-          float zr = -kInfinity;
-          uint64_t nonempty = 0;
-          for (int y = r.y0; y <= r.y1; ++y)
-            for (int x = r.x0; x <= r.x1; ++x) {
-              const float mz = cells.max_z[y * cam.res_x + x];
-              zr = std::max(zr, mz);
-              nonempty += options.cell_depth_cull ? mz >= zmins[t] : mz > -kInfinity;
-            }
-          l_noret += nonempty;
-          r = zr < zmin ? CellRect{} : intersect(r, footprint(cam, tri, zr));
-        }
-      }
-      if (slab_triangle(t)) {
-        slab.for_each_cell(slab_sphere[t], [&](int c) {
-          if (cell_ok(c, zmins[t])) slab_cells[t].push_back(static_cast<uint32_t>(c));
-        });
-        l_aabb += slab_cells[t].size();
-      } else if (!r.empty()) {
-        l_aabb += r.area();
-        if (!options.retraction)
-          for (int y = r.y0; y <= r.y1; ++y)
-            for (int x = r.x0; x <= r.x1; ++x) l_noret += cell_ok(y * cam.res_x + x, zmins[t]);
-      }
-      rects[t] = r;
-    }
-    behind += l_behind;
-    beyond += l_beyond;
-    straddle += l_straddle;
-    no_retraction += l_noret;
-    aabb_cells += l_aabb;
-  });
+  const PassCounts counts = count_pass(a);
   stats.count_ms += elapsed_ms(t0);
 
-  // The triangles in order of nearest depth (ties: id) [Wang 2014 §4.2 takes a prefix sum of
-  // cellsN in triangle order]: each cell's list is then sorted by depth, and a work item reads
-  // only the prefix its deepest sample can be blocked by (the depth cut).
   t0 = std::chrono::steady_clock::now();
-  // Sorted as 64-bit keys (depth bits made to order like the values, id): a strict total order,
-  // so the parallel sort's result is the serial one's, without a lookup per comparison.
-  std::vector<uint64_t> keys(n);
-  parallel_chunks(n, 16384, [&](size_t b, size_t e) {
-    for (size_t t = b; t < e; ++t) {
-      const uint32_t bits = std::bit_cast<uint32_t>(zmins[t] + 0.0f);  // −0 as +0
-      const uint32_t ordered = bits & 0x80000000u ? ~bits : bits | 0x80000000u;
-      keys[t] = uint64_t{ordered} << 32 | t;
-    }
-  });
-  tbb::parallel_sort(keys.begin(), keys.end());
-  std::vector<uint32_t> order(n);
-  for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(keys[i]);
+  const std::vector<uint32_t> order = depth_order(a.zmins);
   stats.prefix_ms += elapsed_ms(t0);
 
-  // Pass 2: the (triID, cellID) pairs, by cell [Wang 2014 §4.2 writes them, then sorts them on
-  // cellID]. Written in cell order at once, by a counting sort fused with the write: the
-  // depth-ordered triangles are cut into fixed chunks, each chunk counts its pairs per cell, the
-  // offsets run over (cell, chunk), and each chunk writes at its own cursor per cell. The result
-  // is the stable sort by cell of the depth-ordered pairs, without a sort's passes and buffer.
   t0 = std::chrono::steady_clock::now();
-  const size_t cell_count = static_cast<size_t>(cam.cell_count());
-  // Fixed chunks (the result never depends on them nor on the threads); their cursors, chunks ×
-  // cells words, stay below about half the pairs' own size.
-  const size_t chunks = std::clamp<size_t>(aabb_cells.load() / (2 * cell_count), 1, 16);
-  const size_t per_chunk = (n + chunks - 1) / chunks;
-  // Calls f(row, cell, triangle) for every pair, each chunk's in order with its own row of
-  // `cursor` (chunks in parallel).
-  std::vector<uint32_t> cursor(chunks * cell_count, 0);
-  auto for_each_pair = [&](auto&& f) {
-    parallel_chunks(chunks, 1, [&](size_t c0, size_t c1) {
-      for (size_t ch = c0; ch < c1; ++ch) {
-        uint32_t* row = cursor.data() + ch * cell_count;
-        for (size_t i = ch * per_chunk; i < std::min(n, (ch + 1) * per_chunk); ++i) {
-          const uint32_t t = order[i];
-          if (slab_triangle(t)) {
-            for (const uint32_t c : slab_cells[t]) f(row, c, t);
-            continue;
-          }
-          const CellRect& r = rects[t];
-          for (int y = r.y0; y <= r.y1; ++y)
-            for (int x = r.x0; x <= r.x1; ++x) {
-              const int c = y * cam.res_x + x;
-              if (cell_ok(c, zmins[t])) f(row, static_cast<uint32_t>(c), t);
-            }
-        }
-      }
-    });
-  };
-  for_each_pair([](uint32_t* count, uint32_t c, uint32_t) { ++count[c]; });
+  PairChunks chunks(a, order, counts.aabb_cells);
+  chunks.for_each_pair([](uint32_t* count, uint32_t c, uint32_t) { ++count[c]; });
   CellTriangles out;
-  out.begin.resize(cell_count);
-  out.end.resize(cell_count);
-  uint64_t running = 0;
-  for (size_t c = 0; c < cell_count; ++c) {
-    out.begin[c] = static_cast<uint32_t>(running);
-    for (size_t ch = 0; ch < chunks; ++ch) {
-      uint32_t& at = cursor[ch * cell_count + c];
-      const uint32_t count = at;
-      at = static_cast<uint32_t>(running);
-      running += count;
-    }
-    out.end[c] = static_cast<uint32_t>(running);
-  }
-  if (running > UINT32_MAX)
+  const uint64_t pairs = chunks.offsets(out);
+  if (pairs > UINT32_MAX)
     throw Error("gears: more than 2^32 (triangle, cell) pairs; use a coarser gears.grid");
   stats.sort_ms += elapsed_ms(t0);
 
   t0 = std::chrono::steady_clock::now();
-  out.zmin = zmins;
-  out.pairs.resize(running);
-  for_each_pair([&](uint32_t* at, uint32_t c, uint32_t t) { out.pairs[at[c]++] = {c, t}; });
+  out.zmin = a.zmins;
+  out.pairs.resize(pairs);
+  chunks.for_each_pair([&](uint32_t* at, uint32_t c, uint32_t t) { out.pairs[at[c]++] = {c, t}; });
   stats.write_ms += elapsed_ms(t0);
 
   stats.pairs += out.pairs.size();
-  stats.pairs_without_retraction += no_retraction.load();
-  stats.aabb_cells += aabb_cells.load();
-  stats.culled_behind_light += behind.load();
-  stats.culled_beyond_samples += beyond.load();
-  stats.straddling_light += straddle.load();
+  stats.pairs_without_retraction += counts.no_retraction;
+  stats.aabb_cells += counts.aabb_cells;
+  stats.culled_behind_light += counts.behind;
+  stats.culled_beyond_samples += counts.beyond;
+  stats.straddling_light += counts.straddle;
   return out;
 }
 
