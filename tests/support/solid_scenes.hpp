@@ -15,6 +15,7 @@ struct SphereVariant {
   bool open = false;          // one triangle removed: a hole, closed by one cap triangle
   bool doubled = false;       // a second, overlapping sphere in the same mesh (self-intersecting)
   bool inconsistent = false;  // every third triangle flipped
+  int rings = 12, sectors = 16;  // the sphere's tessellation (the doubled one's second: 10 × 14)
 };
 
 inline Scene sphere_over_ground(const SphereVariant& variant = {}) {
@@ -27,7 +28,7 @@ inline Scene sphere_over_ground(const SphereVariant& variant = {}) {
   l.edge_u = Vec3(1.2f, 0.0f, 0.0f);
   l.edge_v = Vec3(0.0f, 0.0f, 0.9f);
   s.lights.push_back(l);
-  Mesh sphere = make_sphere(Vec3(0.0f, 1.0f, 0.0f), 0.5f, 12, 16);
+  Mesh sphere = make_sphere(Vec3(0.0f, 1.0f, 0.0f), 0.5f, variant.rings, variant.sectors);
   if (variant.doubled) {
     // Closed and consistently oriented but self-intersecting (winding number 2 in the overlap).
     const Mesh other = make_sphere(Vec3(0.3f, 1.1f, 0.1f), 0.45f, 10, 14);

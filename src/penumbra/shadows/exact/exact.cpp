@@ -9,6 +9,7 @@
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/core/progress.hpp"
 #include "penumbra/render/receivers.hpp"
+#include "penumbra/shadows/exact/edge_tree.hpp"
 #include "penumbra/shadows/exact/solid_interior.hpp"
 #include "penumbra/shadows/exact/union_area.hpp"
 #include "penumbra/shadows/registry.hpp"
@@ -118,34 +119,6 @@ Cull cull_mode(const ExactScene& scene, uint32_t s, const DVec3& p, const Bounds
   return w <= 0 ? Cull::keep_positive : Cull::keep_negative;
 }
 
-/// Would every triangle of the cone's subtree (BVH node `node`) be culled for receiver p: seen
-/// strictly from behind (keep_positive: normal · (p − x) < 0 for every normal of the cone and point
-/// of its sphere), or strictly from the front? With φ the angle the sphere subtends from p, the
-/// angle between a normal and p − x differs from the one between the axis and p − centre by at
-/// most θ + φ. The stored (cos θ, sin θ) = R·(cos θ', sin θ') with θ' ≥ θ and R ≥ 1 (rounded
-/// outward), so the sums below bound the true ones from the safe side; the margin of 1e-6 in the
-/// cosine covers the axis' float length (within 2e-7 of 1) and is far above the rounding of the
-/// per-triangle side tests.
-bool subtree_culled(const ExactNodeCone& cone, const ExactBvh::Node& node, const DVec3& p,
-                    bool keep_positive) {
-  const DVec3 center = 0.5 * (DVec3(node.lo) + DVec3(node.hi));
-  const DVec3 d = p - center;
-  const DVec3 axis(cone.axis);
-  // The axis on the kept side of p − centre: cos_axis has the kept sign, sin(θ + φ) ≥ 0 below,
-  // so the test fails; decided before the square roots (most subtrees p sees from the front).
-  const double along = glm::dot(axis, d);
-  if (keep_positive ? along >= 0.0 : along <= 0.0) return false;
-  const double dist = glm::length(d);
-  const double radius = cone.radius;
-  if (!(dist > radius)) return false;
-  const double sin_phi = radius / dist, cos_phi = std::sqrt(1.0 - sin_phi * sin_phi);
-  const double cos_theta = cone.cos_theta, sin_theta = cone.sin_theta;
-  if (!(cos_theta * cos_phi - sin_theta * sin_phi > 0.0)) return false;  // θ + φ ≥ 90°
-  const double sin_sum = sin_theta * cos_phi + cos_theta * sin_phi;      // sin(θ + φ)
-  const double cos_axis = along / dist;
-  return keep_positive ? cos_axis < -sin_sum - 1e-6 : cos_axis > sin_sum + 1e-6;
-}
-
 ExactPointResult point_light_visibility(const ExactScene& scene, const DVec3& p,
                                         const DVec3& light_pos) {
   ExactPointResult r;
@@ -201,6 +174,7 @@ struct Scratch {
   std::vector<uint64_t> union_find;  // per triangle: epoch << 32 | parent, kept ones (groups)
   std::vector<Cull> cull;            // per solid, decided at its first candidate
   std::vector<uint8_t> solid_met;
+  std::vector<uint8_t> edge_path;  // per solid: its silhouette comes from its edge tree
   std::vector<SemiPolygon> semi;
   ClipperLib::Paths loops;
   ClipperLib::Path poly;
@@ -229,8 +203,10 @@ struct Scratch {
 // the two polygons' fields.
 class PixelUnion {
  public:
+  /// `edge_trees`: large solids may give their silhouette from their edge trees.
   PixelUnion(const ExactScene& scene, const ExactLight& light, const DVec3& p,
-             const LightFrame& frame, const LightProjection& proj, ExactPointResult& r)
+             const LightFrame& frame, const LightProjection& proj, ExactPointResult& r,
+             bool edge_trees)
       : scene_(scene), light_(light), p_(p), frame_(frame), proj_(proj), r_(r), sc_(scratch()) {
     for (const Vec3& c : {frame.corner, frame.corner + frame.edge_u, frame.corner + frame.edge_v,
                           frame.corner + frame.edge_u + frame.edge_v})
@@ -252,6 +228,7 @@ class PixelUnion {
     sc_.edges.clear();
     sc_.edge_prim.clear();
     sc_.semi.clear();
+    if (edge_trees && open_ok_ && !scene.edge_tree_solids().empty()) choose_edge_paths();
   }
 
   /// In umbra by the solids' inner balls (solid_interior.hpp) of `solid_met` (empty: all)?
@@ -285,8 +262,13 @@ class PixelUnion {
   /// Was anything kept? (Otherwise nothing blocks the light.)
   bool met_something() const {
     return !sc_.inside.empty() || !sc_.open.empty() || clipped_count_ > 0 || !sc_.edges.empty() ||
-           !sc_.semi.empty();
+           !sc_.semi.empty() || !edge_solids_.empty();
   }
+
+  /// After emit_silhouette: the silhouettes of the solids that take the edge path appended;
+  /// false when one of them is unsure (edge_tree.hpp), then the receiver is done again without
+  /// edge trees. `any` becomes true when some edge was appended.
+  bool append_edge_silhouettes(bool& any);
 
   /// The solids whose cull mode the traversal decided, i.e. which it met.
   std::span<const uint8_t> solids_met() {
@@ -328,6 +310,7 @@ class PixelUnion {
   }
   int classify_node(const ExactBvh::Node& n, bool inside);
   bool visit(uint32_t prim, bool inside);
+  void choose_edge_paths();
   void add_piece(const ExactOccluder& o, const DVec3* vertices, int count);
   bool keep_opaque(uint32_t prim, const ExactOccluder& o, double side, bool inside);
   void emit_clipped(uint32_t prim, const ClippedPolygon& c);
@@ -349,7 +332,8 @@ class PixelUnion {
   uint32_t open_bit_ = 0;
   bool det_positive_ = false;  // emit_clipped: det M > 0
   size_t clipped_count_ = 0;
-  uint32_t pieces_ = 0;  // non-degenerate opaque alpha pieces
+  std::vector<uint32_t> edge_solids_;  // the solids marked in sc_.edge_path
+  uint32_t pieces_ = 0;                // non-degenerate opaque alpha pieces
   bool umbra_ = false;
 };
 
@@ -378,11 +362,55 @@ int PixelUnion::classify_node(const ExactBvh::Node& n, bool inside) {
   }
   const ExactNodeCone& cone = cones[index];
   if (cone.solid == ExactOccluder::kNotSolid) return c;
+  if (!edge_solids_.empty() && sc_.edge_path[cone.solid]) return ExactBvh::kOutside;
   const Cull mode = cull_of(cone.solid);
   if (mode == Cull::all || !subtree_culled(cone, n, p_, mode == Cull::keep_positive)) return c;
   r_.candidates += cone.triangles;
   r_.culled += cone.triangles;
   return ExactBvh::kOutside;
+}
+
+/// Which met solids give their silhouette from their edge trees: those p sees from outside
+/// (a cull mode keeping one side) that lie wholly nearer than the light's end of the segment —
+/// no kept face crosses the pyramid's far face, so the silhouette edges and the count along the
+/// left side fix the field (edge_tree.hpp).
+void PixelUnion::choose_edge_paths() {
+  sc_.edge_path.assign(scene_.solids().size(), 0);
+  for (const uint32_t s : scene_.edge_tree_solids()) {
+    const Bounds3& box = scene_.solids()[s].box;
+    if (classify_box(proj_, box.lo, box.hi) == ExactBvh::kOutside) continue;
+    const Cull mode = cull_of(s);
+    if (mode != Cull::keep_positive && mode != Cull::keep_negative) continue;
+    double far_w = 0.0;  // W is linear: its largest value over the box, corner by corner
+    for (int i = 0; i < 3; ++i) {
+      const double lo = proj_.to_w[i] * (box.lo[i] - proj_.origin[i]);
+      const double hi = proj_.to_w[i] * (box.hi[i] - proj_.origin[i]);
+      far_w += std::max(lo, hi);
+    }
+    if (!(far_w < kShadowSegmentEnd * (1.0 - 1e-9))) continue;
+    sc_.edge_path[s] = 1;
+    edge_solids_.push_back(s);
+  }
+}
+
+bool PixelUnion::append_edge_silhouettes(bool& any) {
+  for (const uint32_t s : edge_solids_) {
+    EdgeSilhouetteQuery q;
+    q.scene = &scene_;
+    q.solid = s;
+    q.p = p_;
+    q.proj = &proj_;
+    q.corner = DVec3(frame_.corner);
+    q.edge_v = DVec3(frame_.edge_v);
+    q.keep_positive = sc_.cull[s] == Cull::keep_positive;
+    q.det_positive = det_positive_;
+    q.label = static_cast<uint32_t>(scene_.occluders().size()) + s;
+    const size_t before = sc_.uv.size();
+    if (!append_edge_silhouette(q, sc_.uv, sc_.uv_prim, r_.edge_tree_edges)) return false;
+    ++r_.edge_tree_solids;
+    any = any || sc_.uv.size() > before;
+  }
+  return true;
 }
 
 /// An alpha piece or a semi-opaque triangle: clipped and projected now, its outline added to
@@ -397,14 +425,21 @@ void PixelUnion::add_piece(const ExactOccluder& o, const DVec3* vertices, int co
   }
   ++pieces_;
   append_polygon_edges(std::span<const ClipperLib::Path>(&poly, 1), sc_.edges);
+  // One group per cut triangle for the divided sweep (its pieces do not overlap), labelled past
+  // the triangles and the edge trees' solids so that the grouping leaves it alone.
+  const uint32_t label = static_cast<uint32_t>(scene_.occluders().size() + scene_.solids().size() +
+                                               static_cast<size_t>(&o - scene_.occluders().data()));
+  sc_.edge_prim.resize(sc_.edges.size(), label);
   umbra_ = umbra_ || covers_square(poly);
 }
 
 /// One candidate triangle (`inside`: its leaf's box lies inside the pyramid); false stops the
 /// traversal (the light is covered).
 bool PixelUnion::visit(uint32_t prim, bool inside) {
-  ++r_.candidates;
   const ExactOccluder& o = scene_.occluders()[prim];
+  if (!edge_solids_.empty() && o.solid != ExactOccluder::kNotSolid && sc_.edge_path[o.solid])
+    return true;  // its silhouette comes from its edge tree
+  ++r_.candidates;
   const double side = glm::dot(o.normal, p_ - o.v[0]);
   if (skipped(o, side)) {
     ++r_.culled;
@@ -586,7 +621,11 @@ void PixelUnion::label_cancellation_groups(std::vector<uint32_t>& prim_of_edge) 
   for (size_t i = 0; i < clipped_count_; ++i) join(sc_.tri[i]);
   for (const Scratch::OpenTriangle& t : sc_.open) join(t.prim);
   for (const uint32_t prim : sc_.inside) join(prim);
-  for (uint32_t& e : prim_of_edge) e = find(e);
+  // Labels past the triangles are edge trees' (one group per solid, edge_tree.hpp) and cut
+  // triangles' (one group each).
+  const size_t triangles = scene_.occluders().size();
+  for (uint32_t& e : prim_of_edge)
+    if (e < triangles) e = find(e);
 }
 
 /// The whole uv square emits uniformly and every polygon is opaque: V is the area where the
@@ -665,15 +704,27 @@ ExactPointResult exact_visibility(const ExactScene& scene, const ExactLight& lig
     r.degenerate = true;
     return r;
   }
-  PixelUnion query(scene, light, p, frame, proj, r);
   // In umbra by the solids' inner balls? Tried before the traversal where the previous receiver
   // was (neighbours mostly share their umbra), else after it where something was met.
   const bool hinted = hint != nullptr && hint->previous_umbra;
-  if (hinted && query.balls_hide_light({}, hint)) return r;
-  if (!query.collect()) return r;
-  if (query.met_something() && !hinted && query.balls_hide_light(query.solids_met(), hint))
-    return r;
-  if (query.emit_silhouette()) query.measure();
+  {
+    PixelUnion query(scene, light, p, frame, proj, r, true);
+    if (hinted && query.balls_hide_light({}, hint)) return r;
+    if (!query.collect()) return r;
+    if (query.met_something() && !hinted && query.balls_hide_light(query.solids_met(), hint))
+      return r;
+    bool any = query.emit_silhouette();
+    if (query.append_edge_silhouettes(any)) {
+      if (any) query.measure();
+      return r;
+    }
+  }
+  // An edge tree was unsure: the same receiver by its faces alone.
+  r = ExactPointResult{};
+  r.edge_tree_fallbacks = 1;
+  PixelUnion faces(scene, light, p, frame, proj, r, false);
+  if (!faces.collect()) return r;
+  if (faces.emit_silhouette()) faces.measure();
   return r;
 }
 
@@ -692,8 +743,8 @@ class ExactMethod final : public ShadowMethod {
   /// The occluders, their BVH and the closed solids' inner balls depend on the meshes alone.
   void prepare(const Scene& scene) override {
     const auto start = std::chrono::steady_clock::now();
-    prepared_ =
-        std::make_unique<const ExactScene>(scene, options_.leaf_size, options_.cull_back_faces);
+    prepared_ = std::make_unique<const ExactScene>(scene, options_.leaf_size,
+                                                   options_.cull_back_faces, options_.edge_trees);
     unreported_prepare_ms_ = elapsed_ms(start);
   }
 
@@ -716,6 +767,7 @@ class ExactMethod final : public ShadowMethod {
       double pixels = 0, candidates = 0, candidates_max = 0, polygons = 0, culled = 0;
       double lit = 0, umbra = 0, penumbra = 0, degenerate = 0, umbra_by_ball = 0;
       double sweep_edge_beams = 0, sweep_beams = 0, sweep_crossings = 0, silhouette_edges = 0;
+      double edge_tree_solids = 0, edge_tree_edges = 0, edge_tree_fallbacks = 0;
     };
     std::vector<RowStats> rows(static_cast<size_t>(std::max(0, g.height)));
     {
@@ -741,6 +793,9 @@ class ExactMethod final : public ShadowMethod {
           s.sweep_beams += static_cast<double>(r.sweep_beams);
           s.sweep_crossings += static_cast<double>(r.sweep_crossings);
           s.silhouette_edges += r.silhouette_edges;
+          s.edge_tree_solids += r.edge_tree_solids;
+          s.edge_tree_edges += static_cast<double>(r.edge_tree_edges);
+          s.edge_tree_fallbacks += r.edge_tree_fallbacks;
           if (r.visible >= 1.0 - 1e-9) {
             s.lit += 1;
           } else if (r.visible <= 1e-9) {
@@ -769,6 +824,9 @@ class ExactMethod final : public ShadowMethod {
       t.sweep_beams += s.sweep_beams;
       t.sweep_crossings += s.sweep_crossings;
       t.silhouette_edges += s.silhouette_edges;
+      t.edge_tree_solids += s.edge_tree_solids;
+      t.edge_tree_edges += s.edge_tree_edges;
+      t.edge_tree_fallbacks += s.edge_tree_fallbacks;
     }
     Counters& c = vis.counters;
     c["pixels"] = t.pixels;
@@ -787,6 +845,10 @@ class ExactMethod final : public ShadowMethod {
     c["sweep_beams"] = t.sweep_beams;
     c["sweep_crossings"] = t.sweep_crossings;
     c["silhouette_edges"] = t.silhouette_edges;
+    c["edge_tree_silhouettes"] = t.edge_tree_solids;
+    c["edge_tree_edges_tested"] = t.edge_tree_edges;
+    c["edge_tree_fallbacks"] = t.edge_tree_fallbacks;
+    c["edge_trees"] = static_cast<double>(scene.edge_trees().size());
     size_t balls = 0;
     for (const ExactSolid& solid : scene.solids()) balls += solid.balls.size();
     c["inner_balls"] = static_cast<double>(balls);
@@ -842,12 +904,21 @@ void register_exact(MethodRegistry& registry) {
        {},
        0,
        1},
+      {"edge_trees",
+       OptionType::boolean,
+       "true",
+       "find the silhouettes of large closed meshes from a hierarchy over their edges instead of "
+       "visiting their faces (exact; with cull_back_faces)",
+       {},
+       0,
+       1},
   };
   info.create = [](const MethodOptions& o) {
     ExactOptions options;
     options.disk_segments = o.get_int("disk_segments");
     options.leaf_size = o.get_int("leaf_size");
     options.cull_back_faces = o.get_bool("cull_back_faces");
+    options.edge_trees = o.get_bool("edge_trees");
     return make_exact_method(options);
   };
   registry.add(std::move(info));

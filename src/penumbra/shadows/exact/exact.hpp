@@ -36,6 +36,10 @@ struct ExactOptions {
   /// Skip the triangles of opaque meshes that cannot change the union (exact: see
   /// ExactScene::solids and cull_mode in exact.cpp). False projects every triangle.
   bool cull_back_faces = true;
+  /// Large closed meshes (at least kEdgeTreeMinTriangles) seen from outside: their projected
+  /// silhouette is found from a hierarchy over their edges (ExactEdgeTree) instead of by visiting
+  /// every kept face in the pyramid (exact: the same winding field). Needs cull_back_faces.
+  bool edge_trees = true;
 };
 
 /// One shadow-casting triangle, in double precision (the float vertices convert exactly).
@@ -92,6 +96,8 @@ struct ExactSolid {
   std::vector<Bounds3> cap_triangle_boxes;  // one per cap triangle
   std::vector<ExactInnerBall> balls;        // in groups of neighbours (group_inner_balls)
   std::vector<ExactBallGroup> ball_groups;
+  /// Index into ExactScene::edge_trees(), or −1 (a small mesh: its faces are visited).
+  int32_t edge_tree = -1;
 };
 /// The normals of a BVH subtree whose triangles all belong to one ExactSolid: every unit normal
 /// lies within the angle θ < 90° of `axis`; the triangles lie in the sphere of radius `radius`
@@ -109,6 +115,25 @@ struct ExactNodeCone {
 };
 static_assert(sizeof(ExactNodeCone) == 32);
 
+/// One edge of a solid's mesh, once: triangle `left` traverses it a → b, `right` (its
+/// ExactOccluder::neighbour there) b → a, or kNoNeighbour (a boundary edge: a hole, or one of
+/// inconsistent or non-manifold neighbours, which never cancels).
+struct ExactEdge {
+  DVec3 a{0.0}, b{0.0};
+  uint32_t left = 0, right = ExactOccluder::kNoNeighbour;
+};
+/// A solid's edges in a BVH of their own (leaf order), with a normal cone per node over both faces
+/// of every edge below it (solid = kNotSolid where a boundary edge lies below): a receiver that
+/// sees all those faces strictly from one side has no silhouette edge there.
+struct ExactEdgeTree {
+  ExactBvh bvh;
+  std::vector<ExactEdge> edges;
+  std::vector<ExactNodeCone> cones;
+};
+/// Solids of at least this many triangles get an edge tree: below it visiting the faces costs
+/// less than the tree's extra ray per receiver.
+inline constexpr size_t kEdgeTreeMinTriangles = 1024;
+
 /// Meshes needing more cap triangles than this (large open surfaces) are not made solids: their
 /// caps would be met by most pyramids and would cost every winding-number ray.
 inline constexpr size_t kMaxCapTriangles = 1024;
@@ -125,7 +150,8 @@ struct ExactPiece {
 /// and the BVH over them.
 class ExactScene {
  public:
-  explicit ExactScene(const Scene& scene, int leaf_size = 8, bool cull_back_faces = true);
+  explicit ExactScene(const Scene& scene, int leaf_size = 8, bool cull_back_faces = true,
+                      bool edge_trees = true);
 
   const Scene& scene() const { return *scene_; }
   const std::vector<ExactOccluder>& occluders() const { return occluders_; }
@@ -141,6 +167,9 @@ class ExactScene {
   const std::vector<ExactNodeCone>& node_cones() const { return node_cones_; }
   /// Some occluder is semi-opaque (0 < transmittance < 1).
   bool semi_opaque() const { return semi_opaque_; }
+  /// The large solids' edge trees (ExactSolid::edge_tree), and the solids that have one.
+  const std::vector<ExactEdgeTree>& edge_trees() const { return edge_trees_; }
+  const std::vector<uint32_t>& edge_tree_solids() const { return edge_tree_solids_; }
 
  private:
   const Scene* scene_;
@@ -151,6 +180,8 @@ class ExactScene {
   std::vector<ExactSolid> solids_;
   ExactBvh bvh_;
   std::vector<ExactNodeCone> node_cones_;
+  std::vector<ExactEdgeTree> edge_trees_;
+  std::vector<uint32_t> edge_tree_solids_;
   bool semi_opaque_ = false;
 };
 
@@ -203,6 +234,11 @@ struct ExactPointResult {
   uint64_t sweep_crossings = 0;  // edge crossings found inside their beams
   /// Light-uv edges of the projected silhouette given to the area sweep (opaque rectangular case).
   uint32_t silhouette_edges = 0;
+  /// Solids whose silhouette came from their edge trees, the edges those searches tested, and
+  /// whether an unsure edge tree made the receiver be done again by its faces (edge_tree.hpp).
+  uint32_t edge_tree_solids = 0;
+  uint64_t edge_tree_edges = 0;
+  uint32_t edge_tree_fallbacks = 0;
 };
 
 /// Carried from one receiver to the next (exact_visibility): was the previous one in umbra by the

@@ -13,6 +13,7 @@
 #include "penumbra/core/error.hpp"
 #include "penumbra/core/parallel.hpp"
 #include "penumbra/scene/weld.hpp"
+#include "penumbra/shadows/exact/edge_tree.hpp"
 #include "penumbra/shadows/exact/exact.hpp"
 #include "penumbra/shadows/exact/solid_interior.hpp"
 
@@ -320,42 +321,20 @@ std::pair<uint32_t, uint32_t> make_node_cones(const ExactBvh& bvh,
   ExactNodeCone& cone = cones[index];
   cone.triangles = range.second - range.first;
   const uint32_t solid = occluders[range.first].solid;
-  DVec3 sum(0.0);
-  for (uint32_t t = range.first; t < range.second; ++t) {
-    if (occluders[t].solid != solid || occluders[t].cut) return range;
-    sum += unit_normals[t];
-  }
-  const double len = glm::length(sum);
-  if (solid == ExactOccluder::kNotSolid || !(len > 1e-12)) return range;
-  // The axis as stored (float), and θ measured from it: the bound holds for the stored cone.
-  const Vec3 axis(sum / len);
-  const DVec3 unit_axis = glm::normalize(DVec3(axis));
-  double cos_theta = 1.0;
   for (uint32_t t = range.first; t < range.second; ++t)
-    cos_theta = std::min(cos_theta, glm::dot(unit_axis, unit_normals[t]));
-  // A little wider than measured, against the rounding of the normals and dot products; then
-  // rounded outward to float (cos down, sin and the radius up).
-  cos_theta -= 1e-9;
-  if (!(cos_theta > 0.0)) return range;
-  const auto down = [](double x) {
-    const float f = static_cast<float>(x);
-    return static_cast<double>(f) <= x ? f : std::nextafter(f, -1.0f);
-  };
-  const auto up = [](double x) {
-    const float f = static_cast<float>(x);
-    return static_cast<double>(f) >= x ? f : std::nextafter(f, 2.0f * f + 1.0f);
-  };
-  cone.axis = axis;
-  cone.cos_theta = down(cos_theta);
-  cone.sin_theta = up(std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta)));
-  cone.radius = up(0.5 * glm::length(DVec3(node.hi) - DVec3(node.lo)) * (1.0 + 1e-9));
+    if (occluders[t].solid != solid || occluders[t].cut) return range;
+  if (solid == ExactOccluder::kNotSolid) return range;
+  const std::span<const DVec3> normals(unit_normals.data() + range.first,
+                                       range.second - range.first);
+  if (!fit_normal_cone(normals, node, cone)) return range;
   cone.solid = solid;
   return range;
 }
 
 }  // namespace
 
-ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) : scene_(&scene) {
+ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces, bool edge_trees)
+    : scene_(&scene) {
   // The set-up is a frame's serial start (≈ 45 ms on 20 k triangles): its independent parts run
   // side by side — the caps beside the occluders, the adjacency beside the BVH.
   // Opaque uncut meshes: candidates for back-face culling, closed by caps where they are open.
@@ -479,7 +458,17 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
     std::copy(std::begin(occluders_[k].neighbour), std::end(occluders_[k].neighbour),
               neighbours_[k].begin());
   bvh_.renumber_in_leaf_order();
-  // The node cones beside the solids' inner balls (both read the ordered occluders and the BVH).
+  std::vector<std::vector<uint32_t>> triangles(solids_.size());
+  for (uint32_t t = 0; t < occluders_.size(); ++t)
+    if (occluders_[t].solid != ExactOccluder::kNotSolid)
+      triangles[occluders_[t].solid].push_back(t);
+  for (uint32_t s = 0; s < solids_.size(); ++s) {
+    if (!edge_trees || triangles[s].size() < kEdgeTreeMinTriangles) continue;
+    solids_[s].edge_tree = static_cast<int32_t>(edge_tree_solids_.size());
+    edge_tree_solids_.push_back(s);
+  }
+  edge_trees_.resize(edge_tree_solids_.size());
+  // The node cones, the solids' inner balls and the edge trees (all read the ordered occluders).
   tbb::parallel_invoke(
       [&] {
         if (solids_.empty() || bvh_.empty()) return;
@@ -490,10 +479,6 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
         make_node_cones(bvh_, occluders_, unit_normals, 0, node_cones_);
       },
       [&] {
-        std::vector<std::vector<uint32_t>> triangles(solids_.size());
-        for (uint32_t t = 0; t < occluders_.size(); ++t)
-          if (occluders_[t].solid != ExactOccluder::kNotSolid)
-            triangles[occluders_[t].solid].push_back(t);
         // Largest first (ties by index): many small solids cannot spend a large one's budget.
         std::vector<uint32_t> by_size(solids_.size());
         for (uint32_t s = 0; s < by_size.size(); ++s) by_size[s] = s;
@@ -505,6 +490,14 @@ ExactScene::ExactScene(const Scene& scene, int leaf_size, bool cull_back_faces) 
           solids_[s].balls = find_inner_balls(*this, s, triangles[s], budget);
           solids_[s].ball_groups = group_inner_balls(solids_[s].balls, solids_[s].box);
         }
+      },
+      [&] {
+        parallel_chunks(edge_tree_solids_.size(), 1, [&](size_t k0, size_t k1) {
+          for (size_t k = k0; k < k1; ++k) {
+            const uint32_t s = edge_tree_solids_[k];
+            edge_trees_[k] = build_edge_tree(occluders_, triangles[s], s, leaf_size);
+          }
+        });
       });
 }
 

@@ -96,8 +96,8 @@ void drop_collinear(Path& loop) {
   while (loop.size() >= 3 && collinear(loop.back(), loop[0], loop[1])) loop.erase(loop.begin());
 }
 
-/// The clip half-spaces as f(U, V, W) ≥ 0 of a homogeneous point h = (U, V, W), in the order
-/// clip_polygon applies them. The apex cut comes first so the later planes only see W > 0.
+}  // namespace
+
 double clip_value(int plane, const DVec3& h) {
   switch (plane) {
     case 0:
@@ -114,8 +114,6 @@ double clip_value(int plane, const DVec3& h) {
       return h.z - h.y;
   }
 }
-
-}  // namespace
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
                            const DVec3& edge_v, LightProjection& out) {

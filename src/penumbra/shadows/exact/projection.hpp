@@ -63,6 +63,11 @@ struct LightProjection {
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
                            const DVec3& edge_v, LightProjection& out);
 
+/// The clip half-spaces as f(U, V, W) ≥ 0 of a homogeneous point h = (U, V, W), in the order
+/// clip_polygon applies them: 0 W ≥ kMinW (the apex cut comes first so the later planes only see
+/// W > 0), 1 W ≤ kShadowSegmentEnd, 2 U ≥ 0, 3 U ≤ W, 4 V ≥ 0, 5 V ≤ W.
+double clip_value(int plane, const DVec3& h);
+
 /// Conservative box test: false only when the box lies entirely outside one of the pyramid's
 /// planes (so it holds nothing that can block any light point).
 bool box_meets_pyramid(const LightProjection& proj, const Vec3& lo, const Vec3& hi);

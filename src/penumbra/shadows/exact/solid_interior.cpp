@@ -10,11 +10,6 @@
 
 namespace penumbra {
 
-namespace {
-
-/// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle going against / along its normal,
-/// 0 when it misses, kUnsure when it passes within a relative 1e-9 of its boundary or plane.
-constexpr int kUnsure = 2;
 int signed_crossing(const DVec3& origin, const DVec3& seg, const DVec3& a, const DVec3& b,
                     const DVec3& c) {
   const DVec3 e1 = b - a, e2 = c - a;
@@ -38,6 +33,8 @@ int signed_crossing(const DVec3& origin, const DVec3& seg, const DVec3& a, const
   if (u < eps || v < eps || u + v > 1.0 - eps || t < eps) return kUnsure;
   return det > 0.0 ? 1 : -1;  // det = −seg·n: positive when the segment goes against n
 }
+
+namespace {
 
 /// The point of triangle (a, b, c) nearest to p, by the Voronoi regions of its vertices, edges and
 /// face [Ericson 2004 §5.1.5].

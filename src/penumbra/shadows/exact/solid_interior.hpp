@@ -15,6 +15,13 @@ namespace penumbra {
 /// relative 1e-9 so rounding never drops a touching box).
 bool segment_meets_box(const DVec3& origin, const DVec3& dir, const Vec3& lo, const Vec3& hi);
 
+/// +1 / −1 when origin + t·seg, t ∈ [0, 1], crosses the triangle (a, b, c) going against / along
+/// its normal, 0 when it misses, kUnsure when it passes within a relative 1e-9 of its boundary or
+/// plane.
+inline constexpr int kUnsure = 2;
+int signed_crossing(const DVec3& origin, const DVec3& seg, const DVec3& a, const DVec3& b,
+                    const DVec3& c);
+
 /// The winding number of solid `s` at p, counted along a ray from p out of its box. False when
 /// unsure (the ray passes within a relative 1e-9 of an edge or runs nearly in a triangle's plane).
 bool winding_number(const ExactScene& scene, uint32_t s, const DVec3& p, int& winding);
