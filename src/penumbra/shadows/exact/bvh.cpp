@@ -1,5 +1,7 @@
 #include "penumbra/shadows/exact/bvh.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -11,6 +13,9 @@ namespace penumbra {
 namespace {
 
 constexpr int kBins = 16;
+/// Subtrees over this many primitives build their two children in parallel (each into its own
+/// node array, spliced after): the same tree as a serial build, node for node.
+constexpr uint32_t kParallelBuild = 8192;
 
 float half_area(const Bounds3& b) {
   if (b.empty()) return 0.0f;
@@ -32,25 +37,27 @@ void ExactBvh::build(const std::vector<Bounds3>& boxes, int leaf_size) {
   order_.resize(boxes.size());
   std::iota(order_.begin(), order_.end(), 0u);
   nodes_.reserve(2 * boxes.size() / static_cast<size_t>(std::max(1, leaf_size)) + 1);
-  build_node(boxes, centroids, 0, static_cast<uint32_t>(boxes.size()), 0, std::max(1, leaf_size));
+  build_node(nodes_, depth_, boxes, centroids, 0, static_cast<uint32_t>(boxes.size()), 0,
+             std::max(1, leaf_size));
 }
 
-uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids,
+uint32_t ExactBvh::build_node(std::vector<Node>& nodes, int& max_depth,
+                              const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids,
                               uint32_t begin, uint32_t end, int depth, int leaf_size) {
-  const uint32_t index = static_cast<uint32_t>(nodes_.size());
-  nodes_.emplace_back();
-  depth_ = std::max(depth_, depth);
+  const uint32_t index = static_cast<uint32_t>(nodes.size());
+  nodes.emplace_back();
+  max_depth = std::max(max_depth, depth);
   Bounds3 bounds, centroid_bounds;
   for (uint32_t k = begin; k < end; ++k) {
     bounds.extend(boxes[order_[k]]);
     centroid_bounds.extend(centroids[order_[k]]);
   }
-  nodes_[index].lo = bounds.lo;
-  nodes_[index].hi = bounds.hi;
+  nodes[index].lo = bounds.lo;
+  nodes[index].hi = bounds.hi;
   const uint32_t count = end - begin;
   if (count <= static_cast<uint32_t>(leaf_size)) {
-    nodes_[index].first = begin;
-    nodes_[index].count = count;
+    nodes[index].first = begin;
+    nodes[index].count = count;
     return index;
   }
 
@@ -125,10 +132,31 @@ uint32_t ExactBvh::build_node(const std::vector<Bounds3>& boxes, const std::vect
         order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
         [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
   }
-  build_node(boxes, centroids, begin, mid, depth + 1, leaf_size);
-  const uint32_t right = build_node(boxes, centroids, mid, end, depth + 1, leaf_size);
-  nodes_[index].first = right;
-  nodes_[index].count = 0;
+  nodes[index].count = 0;
+  if (count < kParallelBuild) {
+    build_node(nodes, max_depth, boxes, centroids, begin, mid, depth + 1, leaf_size);
+    nodes[index].first =
+        build_node(nodes, max_depth, boxes, centroids, mid, end, depth + 1, leaf_size);
+    return index;
+  }
+  // The children partition disjoint ranges of order_: built side by side, then spliced (an inner
+  // node's right-child index moves with its subtree, a leaf's primitive range does not).
+  std::vector<Node> left, right;
+  int left_depth = depth, right_depth = depth;
+  tbb::parallel_invoke(
+      [&] { build_node(left, left_depth, boxes, centroids, begin, mid, depth + 1, leaf_size); },
+      [&] { build_node(right, right_depth, boxes, centroids, mid, end, depth + 1, leaf_size); });
+  max_depth = std::max({max_depth, left_depth, right_depth});
+  const auto splice = [&](const std::vector<Node>& sub) {
+    const uint32_t at = static_cast<uint32_t>(nodes.size());
+    for (Node n : sub) {
+      if (n.count == 0) n.first += at;
+      nodes.push_back(n);
+    }
+    return at;
+  };
+  splice(left);
+  nodes[index].first = splice(right);
   return index;
 }
 

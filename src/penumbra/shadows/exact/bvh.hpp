@@ -102,8 +102,11 @@ class ExactBvh {
   static constexpr int kMaxDepth = kSahDepth + 34;
 
  private:
-  uint32_t build_node(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids,
-                      uint32_t begin, uint32_t end, int depth, int leaf_size);
+  /// Builds the subtree of order_[begin, end) into `nodes` (its root at the current end);
+  /// `max_depth` grows to its deepest leaf.
+  uint32_t build_node(std::vector<Node>& nodes, int& max_depth, const std::vector<Bounds3>& boxes,
+                      const std::vector<Vec3>& centroids, uint32_t begin, uint32_t end, int depth,
+                      int leaf_size);
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> order_;

@@ -213,19 +213,24 @@ bool close_left_side(const EdgeSilhouetteQuery& q, std::vector<SideEvent>& side,
   int w = count;
   for (const SideEvent& e : side)
     if (e.y < at) w -= e.step;
-  double from = 0.0;
-  const auto emit = [&](double to) {
+  if (w < 0) return false;
+  // Layer j (1, 2, …) covers the ordinates where at least j faces lie over the side: one edge per
+  // run of each layer, so a constant count costs as many edges as faces, not per interval.
+  thread_local std::vector<double> since;  // per layer: where its current run began
+  since.assign(static_cast<size_t>(w), 0.0);
+  const auto close = [&](size_t layer, double to) {
+    const double from = std::clamp(since[layer], 0.0, kUvScale);
     to = std::clamp(to, 0.0, kUvScale);
-    if (to > from)
-      for (int i = 0; i < w; ++i) uv.push_back({0.0, to, 0.0, from});
-    from = std::max(from, to);
+    if (to > from) uv.push_back({0.0, to, 0.0, from});
   };
   for (const SideEvent& e : side) {
-    emit(e.y);
-    w += e.step;
-    if (w < 0) return false;
+    const int next = w + e.step;
+    if (next < 0) return false;
+    for (int j = next; j < w; ++j) close(static_cast<size_t>(j), e.y);  // layers ending here
+    since.resize(static_cast<size_t>(next), e.y);                       // or starting here
+    w = next;
   }
-  emit(kUvScale);
+  for (int j = 0; j < w; ++j) close(static_cast<size_t>(j), kUvScale);
   return true;
 }
 

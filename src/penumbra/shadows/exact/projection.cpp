@@ -98,22 +98,6 @@ void drop_collinear(Path& loop) {
 
 }  // namespace
 
-double clip_value(int plane, const DVec3& h) {
-  switch (plane) {
-    case 0:
-      return h.z - kMinW;
-    case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
-      return kShadowSegmentEnd - h.z;
-    case 2:
-      return h.x;
-    case 3:
-      return h.z - h.x;
-    case 4:
-      return h.y;
-    default:
-      return h.z - h.y;
-  }
-}
 
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
                            const DVec3& edge_v, LightProjection& out) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "penumbra/core/math.hpp"
+#include "penumbra/shadows/method.hpp"
 
 namespace penumbra {
 
@@ -66,7 +67,22 @@ bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVe
 /// The clip half-spaces as f(U, V, W) ≥ 0 of a homogeneous point h = (U, V, W), in the order
 /// clip_polygon applies them: 0 W ≥ kMinW (the apex cut comes first so the later planes only see
 /// W > 0), 1 W ≤ kShadowSegmentEnd, 2 U ≥ 0, 3 U ≤ W, 4 V ≥ 0, 5 V ≤ W.
-double clip_value(int plane, const DVec3& h);
+inline double clip_value(int plane, const DVec3& h) {
+  switch (plane) {
+    case 0:
+      return h.z - kMinW;
+    case 1:  // the light end of the segment, with the tie rule (shadows/method.hpp)
+      return kShadowSegmentEnd - h.z;
+    case 2:
+      return h.x;
+    case 3:
+      return h.z - h.x;
+    case 4:
+      return h.y;
+    default:
+      return h.z - h.y;
+  }
+}
 
 /// Conservative box test: false only when the box lies entirely outside one of the pyramid's
 /// planes (so it holds nothing that can block any light point).
