@@ -91,11 +91,12 @@ struct Swap {
 /// With `marks`, every edge's coefficient at ya and each change at a swap is recorded there.
 bool integrate_by_swaps(const std::vector<SweepEdge>& sweep, std::vector<Crossing>& active,
                         std::vector<Swap>& swaps, std::vector<uint32_t>& pos, Coefficients& co,
-                        double ya, double yb, double side, double& area, std::vector<Mark>* marks) {
+                        double ya, double yb, double side, int base, double& area,
+                        std::vector<Mark>* marks) {
   std::sort(swaps.begin(), swaps.end(), [](const Swap& a, const Swap& b) { return a.y < b.y; });
   const size_t n = active.size();
   co.w_left.resize(n), co.coefficient.resize(n), co.since.resize(n);
-  int w = 0;
+  int w = base;
   for (size_t k = 0; k < n; ++k) {
     pos[active[k].edge] = static_cast<uint32_t>(k);
     co.w_left[k] = w;
@@ -150,10 +151,11 @@ void sort_by_x(std::vector<Crossing>& active) {
 }
 
 /// The total length of [0, side] where the winding number is 0, from the edges crossing one
-/// horizontal line, sorted by their x there (`x(c)`; those along the right side left out).
+/// horizontal line, sorted by their x there (`x(c)`; those along the right side left out), and
+/// the winding number `base` at the line's left end.
 template <class X>
-double uncovered_width(const std::vector<Crossing>& sorted, double side, X x_of) {
-  int w = 0;
+double uncovered_width(const std::vector<Crossing>& sorted, double side, X x_of, int base) {
+  int w = base;
   double prev = 0.0, width = 0.0;
   for (const Crossing& c : sorted) {
     const double x = std::clamp(x_of(c), 0.0, side);
@@ -190,8 +192,15 @@ struct SweepScratch {
     double y0;
     uint32_t edge;
   };
+  /// The edges along the left side as steps of the winding number at u = 0 (area sweeps
+  /// only): by ordinate, +dir where one begins and −dir where it ends.
+  struct Step {
+    double y;
+    int dir;
+  };
   std::vector<SweepEdge> sweep;
   std::vector<Start> order;  // the edges by lower end
+  std::vector<Step> steps;
   std::vector<double> cuts;
   std::vector<Crossing> active;
   std::vector<SweepEdge> left;
@@ -209,12 +218,15 @@ struct SweepScratch {
 };
 
 /// `edges` as sweep edges (s.sweep, s.order by lower end): cut to the square's rows and split at
-/// its sides, the parts left of it moved onto u = 0, the parts right of it dropped.
-void make_sweep_edges(std::span<const UvEdge> edges, SweepScratch& s) {
+/// its sides, the parts left of it moved onto u = 0, the parts right of it dropped. With
+/// `left_as_steps`, the ones on u = 0 become s.steps instead: a line's winding number at u = 0
+/// is then its start, not edges it crosses (an area needs no outline there).
+void make_sweep_edges(std::span<const UvEdge> edges, SweepScratch& s, bool left_as_steps) {
   const double side = kUvScale;
   s.sweep.clear();
   s.order.clear();
   s.left.clear();
+  s.steps.clear();
   for (const UvEdge& e : edges) {
     if (e.y0 == e.y1) continue;  // horizontal: never crosses a line inside a beam
     const bool up = e.y0 < e.y1;
@@ -277,8 +289,15 @@ void make_sweep_edges(std::span<const UvEdge> edges, SweepScratch& s) {
     SweepEdge run = s.left[i++];
     for (; i < s.left.size() && s.left[i].dir == run.dir && s.left[i].y0 == run.y1; ++i)
       run.y1 = s.left[i].y1;
-    s.add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
+    if (left_as_steps) {
+      s.steps.push_back({run.y0, run.dir});
+      s.steps.push_back({run.y1, -run.dir});
+    } else {
+      s.add(run.y0, run.y1, 0.0, 0.0, 0.0, run.dir);
+    }
   }
+  std::sort(s.steps.begin(), s.steps.end(),
+            [](const SweepScratch::Step& a, const SweepScratch::Step& b) { return a.y < b.y; });
   std::sort(s.order.begin(), s.order.end(),
             [](const SweepScratch::Start& a, const SweepScratch::Start& b) {
               return a.y0 != b.y0 ? a.y0 < b.y0 : a.edge < b.edge;
@@ -289,7 +308,7 @@ void make_sweep_edges(std::span<const UvEdge> edges, SweepScratch& s) {
 /// between the crossings (integrate_by_swaps), or, where that fails, by splitting the beam at
 /// every crossing; added to `area` piece by piece. Leaves s.active in some order; the next beam
 /// sorts it again.
-void crossing_beam(SweepScratch& s, double ya, double yb, std::vector<UvEdge>* outline,
+void crossing_beam(SweepScratch& s, double ya, double yb, int base, std::vector<UvEdge>* outline,
                    SweepWork* work, double& area) {
   const double side = kUvScale, h = yb - ya;
   // Insertion-sort a copy by the order at yb: every swap is one pair whose order differs at
@@ -312,7 +331,7 @@ void crossing_beam(SweepScratch& s, double ya, double yb, std::vector<UvEdge>* o
   }
   if (work != nullptr) work->crossings += s.swaps.size();
   s.marks.clear();
-  if (integrate_by_swaps(s.sweep, s.active, s.swaps, s.pos, s.co, ya, yb, side, area,
+  if (integrate_by_swaps(s.sweep, s.active, s.swaps, s.pos, s.co, ya, yb, side, base, area,
                          outline != nullptr ? &s.marks : nullptr)) {
     for (const Mark& m : s.marks) s.sink.mark(m.edge, m.coefficient, m.y);
     return;
@@ -334,7 +353,8 @@ void crossing_beam(SweepScratch& s, double ya, double yb, std::vector<UvEdge>* o
     }
     sort_by_x(s.active);
     if (outline != nullptr) mark_walk(s.active, lo, s.sink);
-    area += (hi - lo) * uncovered_width(s.active, side, [](const Crossing& c) { return c.xa; });
+    area += (hi - lo) * uncovered_width(
+                            s.active, side, [](const Crossing& c) { return c.xa; }, base);
     lo = hi;
   }
 }
@@ -372,21 +392,25 @@ bool advance_active(SweepScratch& s, double yb) {
 double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline, SweepWork* work) {
   const double side = kUvScale;
   thread_local SweepScratch s;
-  make_sweep_edges(edges, s);
-  if (s.sweep.empty()) return side * side;
+  make_sweep_edges(edges, s, outline == nullptr);
+  if (s.sweep.empty() && s.steps.empty()) return side * side;
   if (s.pos.size() < s.sweep.size()) s.pos.resize(s.sweep.size());
   if (outline != nullptr) s.sink.reset(s.sweep, *outline);
   const auto lower_end = [&](size_t k) { return s.order[k].y0; };
 
   // Below the lowest ordinate no edge is crossed: the field is 0 (and above the highest).
-  double ya = lower_end(0);
+  double ya =
+      std::min(s.order.empty() ? side : lower_end(0), s.steps.empty() ? side : s.steps[0].y);
   double area = ya * side;
   std::vector<Crossing>& active = s.active;
   active.clear();
-  size_t next = 0;
+  size_t next = 0, next_step = 0;
+  int base = 0;  // the winding number at u = 0 (s.steps)
   while (true) {
+    for (; next_step < s.steps.size() && s.steps[next_step].y <= ya; ++next_step)
+      base += s.steps[next_step].dir;
     // Edges ending at ya leave (in place, keeping the order), edges starting there enter; yb is
-    // the next ordinate where an edge starts or ends.
+    // the next ordinate where an edge starts or ends or the left side's winding steps.
     double yb = side;
     size_t kept = 0;
     for (const Crossing& c : active) {
@@ -405,9 +429,10 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
       yb = std::min(yb, e.y1);
     }
     if (next < s.order.size()) yb = std::min(yb, lower_end(next));
+    if (next_step < s.steps.size()) yb = std::min(yb, s.steps[next_step].y);
     if (active.empty()) {
-      if (next == s.order.size()) break;
-      area += (yb - ya) * side;
+      if (next == s.order.size() && next_step == s.steps.size()) break;
+      area += base == 0 ? (yb - ya) * side : 0.0;
       ya = yb;
       continue;
     }
@@ -420,9 +445,10 @@ double sweep_square(std::span<const UvEdge> edges, std::vector<UvEdge>* outline,
       // linear in y there, and its value at the middle times the height is the beam's exact area.
       if (outline != nullptr) mark_walk(active, ya, s.sink);
       area += (yb - ya) *
-              uncovered_width(active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); });
+              uncovered_width(
+                  active, side, [](const Crossing& c) { return 0.5 * (c.xa + c.xb); }, base);
     } else {
-      crossing_beam(s, ya, yb, outline, work, area);
+      crossing_beam(s, ya, yb, base, outline, work, area);
     }
     ya = yb;
   }
