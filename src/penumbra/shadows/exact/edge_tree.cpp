@@ -99,6 +99,19 @@ ExactEdgeTree build_edge_tree(const std::vector<ExactOccluder>& occluders,
   tree.cones.resize(tree.bvh.nodes().size());
   std::vector<DVec3> scratch;
   make_edge_cones(tree, unit_normals, occluders, s, 0, scratch);
+  // The faces by first use in leaf order; the edges then name them there.
+  std::vector<uint32_t> face_of(occluders.size(), ExactOccluder::kNoNeighbour);
+  const auto face = [&](uint32_t t) {
+    if (face_of[t] == ExactOccluder::kNoNeighbour) {
+      face_of[t] = static_cast<uint32_t>(tree.faces.size());
+      tree.faces.push_back({occluders[t].normal, occluders[t].v[0]});
+    }
+    return face_of[t];
+  };
+  for (ExactEdge& edge : tree.edges) {
+    edge.left = face(edge.left);
+    if (edge.right != ExactOccluder::kNoNeighbour) edge.right = face(edge.right);
+  }
   return tree;
 }
 
@@ -241,11 +254,10 @@ bool append_edge_silhouette(const EdgeSilhouetteQuery& q, std::vector<UvEdge>& u
   const ExactScene& scene = *q.scene;
   const ExactSolid& solid = scene.solids()[q.solid];
   const ExactEdgeTree& tree = scene.edge_trees()[static_cast<size_t>(solid.edge_tree)];
-  const auto& occluders = scene.occluders();
   const LightProjection& proj = *q.proj;
-  const auto kept = [&](uint32_t t) {
-    const ExactOccluder& o = occluders[t];
-    const double side = glm::dot(o.normal, q.p - o.v[0]);
+  const auto kept = [&](uint32_t f) {
+    const ExactFacePlane& face = tree.faces[f];
+    const double side = glm::dot(face.normal, q.p - face.v0);
     return q.keep_positive ? side > 0.0 : side < 0.0;
   };
   thread_local std::vector<SideEvent> side;

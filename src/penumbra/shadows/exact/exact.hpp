@@ -115,20 +115,26 @@ struct ExactNodeCone {
 };
 static_assert(sizeof(ExactNodeCone) == 32);
 
-/// One edge of a solid's mesh, once: triangle `left` traverses it a → b, `right` (its
-/// ExactOccluder::neighbour there) b → a, or kNoNeighbour (a boundary edge: a hole, or one of
-/// inconsistent or non-manifold neighbours, which never cancels).
+/// One edge of a solid's mesh, once: face `left` (ExactEdgeTree::faces) traverses it a → b,
+/// `right` (the triangle's ExactOccluder::neighbour there) b → a, or kNoNeighbour (a boundary
+/// edge: a hole, or one of inconsistent or non-manifold neighbours, which never cancels).
 struct ExactEdge {
   DVec3 a{0.0}, b{0.0};
   uint32_t left = 0, right = ExactOccluder::kNoNeighbour;
 };
+/// A face as the side tests read it: the occluder's normal and v[0], bit for bit.
+struct ExactFacePlane {
+  DVec3 normal{0.0}, v0{0.0};
+};
 /// A solid's edges in a BVH of their own (leaf order), with a normal cone per node over both faces
 /// of every edge below it (solid = kNotSolid where a boundary edge lies below): a receiver that
-/// sees all those faces strictly from one side has no silhouette edge there.
+/// sees all those faces strictly from one side has no silhouette edge there. The faces' planes are
+/// copied in the order the edges first use them, so a search reads them nearly in sequence.
 struct ExactEdgeTree {
   ExactBvh bvh;
   std::vector<ExactEdge> edges;
   std::vector<ExactNodeCone> cones;
+  std::vector<ExactFacePlane> faces;
 };
 /// Solids of at least this many triangles get an edge tree: below it visiting the faces costs
 /// less than the tree's extra ray per receiver.

@@ -98,7 +98,6 @@ void drop_collinear(Path& loop) {
 
 }  // namespace
 
-
 bool make_light_projection(const DVec3& receiver, const DVec3& corner, const DVec3& edge_u,
                            const DVec3& edge_v, LightProjection& out) {
   const DVec3 cross = glm::cross(edge_u, edge_v);
