@@ -3,8 +3,8 @@
 // left side by one counting ray, gives the same V as visiting its faces — on closed, flipped,
 // open (capped), self-intersecting, inconsistently oriented and non-manifold meshes, for receivers
 // on the ground, on the mesh, inside it and inside its box, under a light the mesh nearly touches;
-// the path is really taken; and perforated occluders with many edges (the divided sweep's groups)
-// on the garden.
+// the path is really taken, and a silhouette along the light's side falls back to the faces; and
+// perforated occluders with many edges (the divided sweep's groups) on the garden.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -123,6 +123,73 @@ TEST(ExactEdgeTrees, SphereNearTheLightKeepsTheFaces) {
   s.lights[0].center = Vec3(0.7f, 1.501f, 0.0f);
   const Agreement a = compare_edge_trees(s);
   EXPECT_LE(a.max_diff, kGrid);
+}
+
+/// A box from `lo` to `hi` with every face an n × n grid of quads (outward, 12·n² triangles),
+/// the shared rows computed by one expression so that the faces weld.
+Mesh grid_box(const Vec3& lo, const Vec3& hi, int n) {
+  Mesh m;
+  const auto at = [&](int axis, int i) {
+    return lo[axis] + (hi[axis] - lo[axis]) * static_cast<float>(i) / static_cast<float>(n);
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int side = 0; side < 2; ++side) {
+      const uint32_t base = static_cast<uint32_t>(m.positions.size());
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          Vec3 p;
+          p[axis] = side == 0 ? lo[axis] : hi[axis];
+          p[u] = at(u, i);
+          p[v] = at(v, j);
+          m.positions.push_back(p);
+        }
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const uint32_t a = base + static_cast<uint32_t>(j * (n + 1) + i), b = a + 1,
+                         c = a + static_cast<uint32_t>(n + 1), d = c + 1;
+          // (u, v, axis) is right-handed: a → b → d turns about +axis; reversed on the low side.
+          if (side == 1) {
+            m.triangles.push_back({{a, b, d}});
+            m.triangles.push_back({{a, d, c}});
+          } else {
+            m.triangles.push_back({{a, d, b}});
+            m.triangles.push_back({{a, c, d}});
+          }
+        }
+    }
+  }
+  return m;
+}
+
+TEST(ExactEdgeTrees, SilhouetteAlongTheLightsSideFallsBackToTheFaces) {
+  // The receiver lies in the plane x = 0 of the box's side face and of the light's u = 0 edge:
+  // the box's bottom edges on x = 0 are silhouette edges running along the square's left side,
+  // where the count cannot be stepped — that receiver is done again by its faces.
+  Scene s;
+  s.materials.push_back(Material{});
+  Light l;
+  l.shape = LightShape::rect;
+  l.center = Vec3(0.5f, 2.0f, 0.5f);
+  l.edge_u = Vec3(1.0f, 0.0f, 0.0f);
+  l.edge_v = Vec3(0.0f, 0.0f, 1.0f);
+  s.lights.push_back(l);
+  s.meshes.push_back(grid_box(Vec3(0.0f, 1.0f, 0.35f), Vec3(1.0f, 1.5f, 0.65f), 10));
+  const ExactScene edges(s, 8, true, true), faces(s, 8, true, false);
+  ASSERT_EQ(edges.edge_trees().size(), 1u);
+  const ExactLight light(s, s.lights[0]);
+  const ExactPointResult in_plane = exact_visibility(edges, light, Vec3(0.0f, 0.0f, 0.5f));
+  EXPECT_EQ(in_plane.edge_tree_fallbacks, 1u);
+  EXPECT_NEAR(in_plane.visible, exact_visibility(faces, light, Vec3(0.0f, 0.0f, 0.5f)).visible,
+              kGrid);
+  EXPECT_GT(in_plane.visible, 0.0);
+  EXPECT_LT(in_plane.visible, 1.0);
+  // Beside that plane the edge tree answers.
+  const ExactPointResult beside = exact_visibility(edges, light, Vec3(0.3f, 0.0f, 0.5f));
+  EXPECT_EQ(beside.edge_tree_fallbacks, 0u);
+  EXPECT_EQ(beside.edge_tree_solids, 1u);
+  EXPECT_NEAR(beside.visible, exact_visibility(faces, light, Vec3(0.3f, 0.0f, 0.5f)).visible,
+              kGrid);
 }
 
 TEST(ExactEdgeTrees, RoundLightsUseTheFaces) {
